@@ -1,0 +1,145 @@
+#pragma once
+// The SIMD path for one block of K × W orbits (W lanes, K chains interleaved to hide the latency
+// of division). The block stays in registers for a chunk of steps (temporal blocking); the only
+// per-step extra is one addition: acc += |newest q|², a conservative escape test. When a chunk ends
+// with acc beyond the bound or non-finite in an alive lane, the chunk is replayed from its start
+// step by step, freezing each lane exactly where the reference path stops it. So every lane
+// computes exactly what advance_reference computes for its orbit.
+//
+// Included only by the per-ISA translation units (core/instantiate.cpp.in).
+#include <algorithm>
+#include <array>
+#include <cstddef>
+
+#include "core/advance.hpp"
+#include "core/ensemble.hpp"
+#include "core/ops.hpp"
+#include "core/run_plan.hpp"
+#include "core/tracking.hpp"
+
+namespace qmaps {
+
+namespace detail {
+
+inline constexpr long long max_chunk = 256;
+
+template <class Map, class V>
+struct Lanes {
+  using State = typename Map::template State<V>;
+  using Mask = ops::mask_t<V>;
+  static constexpr std::size_t W = ops::lanes<V>;
+
+  static State load(const Ensemble& e, std::size_t orbit) {
+    State s;
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = ops::load<V>(&e.state[k][orbit]);
+    return s;
+  }
+  static void store(Ensemble& e, std::size_t orbit, const State& s) {
+    for (std::size_t k = 0; k < s.size(); ++k) ops::store(&e.state[k][orbit], s[k]);
+  }
+  static Mask alive(const Ensemble& e, std::size_t orbit) {
+    alignas(64) std::array<double, W> flags;
+    for (std::size_t l = 0; l < W; ++l) flags[l] = e.escape_step[orbit + l] < 0 ? 1.0 : 0.0;
+    return ops::load<V>(flags.data()) != V(0.0);
+  }
+  static State select(Mask m, const State& a, const State& b) {
+    State s;
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = ops::select(m, a[k], b[k]);
+    return s;
+  }
+  // Records the escape at step n of the lanes in `fresh`, whose escaped state is `t`.
+  static void record(Ensemble& e, std::size_t orbit, long long n, Mask fresh, const State& t) {
+    const auto lanes = ops::lanes_of(fresh);
+    std::array<std::array<double, W>, std::tuple_size_v<State>> values;
+    for (std::size_t k = 0; k < t.size(); ++k) values[k] = ops::lanes_of(t[k]);
+    for (std::size_t l = 0; l < W; ++l) {
+      if (!lanes[l]) continue;
+      std::array<double, std::tuple_size_v<State>> lane;
+      for (std::size_t k = 0; k < t.size(); ++k) lane[k] = values[k][l];
+      e.escape_step[orbit + l] = n;
+      e.escape_reason[orbit + l] = static_cast<std::uint8_t>(classify_escape(lane));
+    }
+  }
+};
+
+}  // namespace detail
+
+template <class Map, class Arch, int K>
+void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
+                   const RunPlan& plan) {
+  using V = xsimd::batch<double, Arch>;
+  using L = detail::Lanes<Map, V>;
+  using State = typename L::State;
+  using Mask = typename L::Mask;
+  constexpr std::size_t W = L::W;
+
+  State s[K];
+  Mask alive[K];
+  bool any_dead = false;
+  for (int k = 0; k < K; ++k) {
+    s[k] = L::load(e, first + k * W);
+    alive[k] = L::alive(e, first + k * W);
+    any_dead = any_dead || !ops::all(alive[k]);
+  }
+  const V bound2(plan.escape_bound2());
+
+  for (long long n = plan.first; n < plan.last;) {
+    long long next = std::min(plan.last, n + detail::max_chunk);
+    if (plan.track_invariants) next = std::min(next, (n / plan.stride + 1) * plan.stride);
+
+    State start[K];
+    V acc[K];
+    for (int k = 0; k < K; ++k) {
+      start[k] = s[k];
+      acc[k] = V(0.0);
+    }
+    for (long long j = n; j < next; ++j)
+      for (int k = 0; k < K; ++k) {
+        acc[k] = acc[k] + Map::escape_measure(s[k]);
+        Map::step(c, s[k]);
+      }
+    bool suspect = false;
+    for (int k = 0; k < K; ++k) {
+      acc[k] = acc[k] + Map::escape_measure(s[k]);
+      suspect = suspect || ops::any(ops::negate(acc[k] <= bound2) & alive[k]);
+    }
+
+    if (suspect) {  // replay the chunk exactly, step by step
+      for (int k = 0; k < K; ++k) s[k] = start[k];
+      for (long long j = n + 1; j <= next; ++j)
+        for (int k = 0; k < K; ++k) {
+          State t = s[k];
+          Map::step(c, t);
+          const Mask ok = Map::escape_measure(t) <= bound2;
+          const Mask fresh = alive[k] & ops::negate(ok);
+          if (ops::any(fresh)) {
+            L::record(e, first + k * W, j, fresh, t);
+            any_dead = true;
+          }
+          alive[k] = alive[k] & ok;
+          s[k] = L::select(alive[k], t, s[k]);
+        }
+    } else if (any_dead) {  // escaped lanes were stepped from their frozen state: refreeze them
+      for (int k = 0; k < K; ++k) s[k] = L::select(alive[k], s[k], start[k]);
+    }
+
+    n = next;
+    if (plan.track_invariants && plan.samples_at(n))
+      for (int k = 0; k < K; ++k) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);
+  }
+  for (int k = 0; k < K; ++k) L::store(e, first + k * W, s[k]);
+}
+
+template <class Map, class Arch>
+void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
+                    std::size_t count, int chains, const RunPlan& plan) {
+  const std::size_t block = xsimd::batch<double, Arch>::size * static_cast<std::size_t>(chains);
+  for (std::size_t o = first; o < first + count; o += block) switch (chains) {
+      case 1: advance_block<Map, Arch, 1>(c, e, o, plan); break;
+      case 2: advance_block<Map, Arch, 2>(c, e, o, plan); break;
+      case 4: advance_block<Map, Arch, 4>(c, e, o, plan); break;
+      case 8: advance_block<Map, Arch, 8>(c, e, o, plan); break;
+    }
+}
+
+}  // namespace qmaps

@@ -1,0 +1,195 @@
+#include "core/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace qmaps {
+namespace {
+
+std::string dotted(std::string_view section, std::string_view key) {
+  return std::string(section) + "." + std::string(key);
+}
+
+std::string type_name(const toml::node& n) {
+  if (n.is_string()) return "a string";
+  if (n.is_integer()) return "an integer";
+  if (n.is_floating_point()) return "a number";
+  if (n.is_boolean()) return "a boolean";
+  if (n.is_array()) return "an array";
+  if (n.is_table()) return "a table";
+  return "a value";
+}
+
+}  // namespace
+
+Config Config::parse(std::string_view text, std::string source) {
+  Config c;
+  c.text_ = std::string(text);
+  c.source_ = std::move(source);
+  try {
+    c.table_ = toml::parse(c.text_, c.source_);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << c.source_ << ':' << e.source().begin.line << ':' << e.source().begin.column
+        << ": malformed TOML: " << e.description();
+    throw usage_error(msg.str());
+  }
+  for (const auto& [name, value] : c.table_)
+    if (!value.is_table())
+      throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": '" +
+                        std::string(name.str()) + "' must be a [section]");
+  return c;
+}
+
+Config Config::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ExitCode::io, "cannot read config file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), path);
+}
+
+void Config::set(std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  const auto dot = assignment.find('.');
+  if (eq == std::string_view::npos || dot == std::string_view::npos || dot > eq || dot == 0 ||
+      dot + 1 == eq)
+    throw usage_error("--set expects section.key=value, got '" + std::string(assignment) + "'");
+  const std::string section(assignment.substr(0, dot));
+  const std::string key(assignment.substr(dot + 1, eq - dot - 1));
+  const std::string value(assignment.substr(eq + 1));
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{{"v", value}};
+  }
+  auto* target = table_[section].as_table();
+  if (!target) {
+    if (table_.contains(section))
+      throw usage_error("--set " + section + "." + key + ": '" + section + "' is not a section");
+    table_.insert(section, toml::table{});
+    target = table_[section].as_table();
+  }
+  target->insert_or_assign(key, std::move(*parsed.get("v")));
+  overridden_.insert(dotted(section, key));
+}
+
+const toml::node* Config::find(std::string_view section, std::string_view key) const {
+  used_sections_.insert(std::string(section));
+  const auto* s = table_.get_as<toml::table>(section);
+  if (!s) return nullptr;
+  const auto* n = s->get(key);
+  if (n) used_.insert(dotted(section, key));
+  return n;
+}
+
+const toml::node& Config::node(std::string_view section, std::string_view key) const {
+  const auto* n = find(section, key);
+  if (!n)
+    throw usage_error(source_ + ": missing key '" + std::string(key) + "' in [" +
+                      std::string(section) + "]");
+  return *n;
+}
+
+bool Config::has(std::string_view section, std::string_view key) const {
+  return find(section, key) != nullptr;
+}
+
+std::string Config::where(std::string_view section, std::string_view key) const {
+  const std::string name = dotted(section, key);
+  if (overridden_.count(name)) return "--set " + name;
+  const auto* s = table_.get_as<toml::table>(section);
+  const auto* n = s ? s->get(key) : nullptr;
+  const auto line = n ? n->source().begin.line : (s ? s->source().begin.line : 0);
+  return source_ + ":" + std::to_string(line) + ": [" + std::string(section) + "] " +
+         std::string(key);
+}
+
+double Config::number(std::string_view section, std::string_view key) const {
+  const auto& n = node(section, key);
+  const auto v = n.value<double>();
+  if (!v || !(n.is_number()))
+    throw usage_error(where(section, key) + " must be a number, not " + type_name(n));
+  if (!std::isfinite(*v)) throw usage_error(where(section, key) + " must be finite");
+  return *v;
+}
+
+double Config::number_or(std::string_view section, std::string_view key, double fallback) const {
+  return has(section, key) ? number(section, key) : fallback;
+}
+
+long long Config::integer(std::string_view section, std::string_view key) const {
+  const auto& n = node(section, key);
+  if (!n.is_integer())
+    throw usage_error(where(section, key) + " must be an integer, not " + type_name(n));
+  return *n.value<long long>();
+}
+
+long long Config::integer_or(std::string_view section, std::string_view key,
+                             long long fallback) const {
+  return has(section, key) ? integer(section, key) : fallback;
+}
+
+std::string Config::string(std::string_view section, std::string_view key) const {
+  const auto& n = node(section, key);
+  if (!n.is_string())
+    throw usage_error(where(section, key) + " must be a string, not " + type_name(n));
+  return *n.value<std::string>();
+}
+
+std::string Config::string_or(std::string_view section, std::string_view key,
+                              std::string fallback) const {
+  return has(section, key) ? string(section, key) : fallback;
+}
+
+std::array<double, 2> Config::range(std::string_view section, std::string_view key) const {
+  const auto& n = node(section, key);
+  if (n.is_number()) {
+    const double x = number(section, key);
+    return {x, x};
+  }
+  const auto* a = n.as_array();
+  if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
+    throw usage_error(where(section, key) + " must be a range [lo, hi] or a number");
+  const double lo = *(*a)[0].value<double>(), hi = *(*a)[1].value<double>();
+  if (!std::isfinite(lo) || !std::isfinite(hi))
+    throw usage_error(where(section, key) + " must have finite ends");
+  if (lo > hi)
+    throw usage_error(where(section, key) + " is an empty range: lo > hi (" +
+                      std::to_string(lo) + " > " + std::to_string(hi) + ")");
+  return {lo, hi};
+}
+
+std::vector<std::string> Config::keys(std::string_view section) const {
+  std::vector<std::string> out;
+  used_sections_.insert(std::string(section));
+  if (const auto* s = table_.get_as<toml::table>(section))
+    for (const auto& [k, v] : *s) {
+      out.emplace_back(k.str());
+      used_.insert(dotted(section, k.str()));
+    }
+  return out;
+}
+
+void Config::reject_unknown() const {
+  for (const auto& [section, value] : table_) {
+    if (!used_sections_.count(std::string(section.str())))
+      throw usage_error(source_ + ":" + std::to_string(value.source().begin.line) +
+                        ": unknown section [" + std::string(section.str()) + "]");
+    for (const auto& [key, v] : *value.as_table())
+      if (!used_.count(dotted(section.str(), key.str())))
+        throw usage_error(where(section.str(), key.str()) + ": unknown key");
+  }
+}
+
+std::string Config::resolved() const {
+  std::ostringstream out;
+  out << toml::toml_formatter(table_);
+  return out.str();
+}
+
+}  // namespace qmaps

@@ -1,0 +1,55 @@
+#include "core/ensemble.hpp"
+
+#include <cmath>
+
+#include "core/error.hpp"
+
+namespace qmaps {
+
+std::string_view escape_reason_name(EscapeReason reason) {
+  switch (reason) {
+    case EscapeReason::none: return "none";
+    case EscapeReason::non_finite: return "non-finite";
+    case EscapeReason::beyond_bound: return "beyond bound";
+  }
+  return "?";
+}
+
+EscapeReason classify_escape(std::span<const double> state) {
+  for (double x : state)
+    if (!std::isfinite(x)) return EscapeReason::non_finite;
+  return EscapeReason::beyond_bound;
+}
+
+Ensemble::Ensemble(std::size_t n, std::size_t state_size, std::size_t invariants)
+    : orbits(n), padded((n + padding - 1) / padding * padding) {
+  if (n == 0) throw usage_error("an ensemble needs at least one orbit");
+  for (std::size_t k = 0; k < state_size; ++k) state.emplace_back(padded);
+  escape_step = AlignedArray<std::int64_t>(padded, -1);
+  escape_reason = AlignedArray<std::uint8_t>(padded, 0);
+  for (std::size_t k = 0; k < invariants; ++k) {
+    invariant_initial.emplace_back(padded);
+    invariant_max_drift.emplace_back(padded);
+  }
+}
+
+void Ensemble::fill_padding() {
+  const std::size_t last = orbits - 1;
+  for (std::size_t i = orbits; i < padded; ++i) {
+    for (auto& column : state) column[i] = column[last];
+    escape_step[i] = escape_step[last];
+    escape_reason[i] = escape_reason[last];
+    for (std::size_t k = 0; k < invariant_initial.size(); ++k) {
+      invariant_initial[k][i] = invariant_initial[k][last];
+      invariant_max_drift[k][i] = invariant_max_drift[k][last];
+    }
+  }
+}
+
+std::size_t Ensemble::escaped() const {
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < orbits; ++i) n += escape_step[i] >= 0;
+  return n;
+}
+
+}  // namespace qmaps

@@ -1,0 +1,27 @@
+#pragma once
+// The one exception type of qmaps: a message for the user and the process exit code it maps to.
+#include <stdexcept>
+#include <string>
+
+namespace qmaps {
+
+enum class ExitCode : int {
+  ok = 0,
+  failure = 1,       // an error inside qmaps or its libraries
+  usage = 2,         // bad command line, configuration or parameters
+  io = 3,            // a file that cannot be read or written
+  unsupported = 4,   // an ISA that this binary or this CPU lacks
+};
+
+class Error : public std::runtime_error {
+ public:
+  Error(ExitCode code, const std::string& message) : std::runtime_error(message), code_(code) {}
+  ExitCode code() const { return code_; }
+
+ private:
+  ExitCode code_;
+};
+
+inline Error usage_error(const std::string& message) { return Error(ExitCode::usage, message); }
+
+}  // namespace qmaps

@@ -1,0 +1,95 @@
+#pragma once
+// HDF5 (C API) with RAII: every handle closes itself; every failure is a qmaps::Error naming the
+// file and the object. AtomicFile writes under a temporary name and renames when complete.
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <hdf5.h>
+
+namespace qmaps::h5 {
+
+// An HDF5 identifier and the function that closes it.
+class Handle {
+ public:
+  Handle() = default;
+  Handle(hid_t id, herr_t (*close)(hid_t)) : id_(id), close_(close) {}
+  Handle(Handle&& o) noexcept : id_(o.id_), close_(o.close_) { o.id_ = H5I_INVALID_HID; }
+  Handle& operator=(Handle&& o) noexcept;
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  ~Handle() { reset(); }
+  hid_t id() const { return id_; }
+  void reset();
+
+ private:
+  hid_t id_ = H5I_INVALID_HID;
+  herr_t (*close_)(hid_t) = nullptr;
+};
+
+// A group (or the file's root group) and what qmaps writes into and reads from it.
+class Group {
+ public:
+  Group(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
+  Group create_group(const std::string& name) const;
+  Group open_group(const std::string& name) const;
+  bool has(const std::string& name) const;
+  std::vector<std::string> members() const;
+  const std::string& path() const { return path_; }
+
+  void write(const std::string& name, std::span<const double> data) const;
+  void write(const std::string& name, std::span<const std::int64_t> data) const;
+  void write(const std::string& name, std::span<const std::uint8_t> data) const;
+  std::vector<double> read_doubles(const std::string& name) const;
+  std::vector<std::int64_t> read_int64(const std::string& name) const;
+
+  void attr(const std::string& name, const std::string& value) const;
+  void attr(const std::string& name, const char* value) const { attr(name, std::string(value)); }
+  void attr(const std::string& name, double value) const;
+  void attr(const std::string& name, std::int64_t value) const;
+  bool has_attr(const std::string& name) const;
+  std::string attr_string(const std::string& name) const;
+  double attr_double(const std::string& name) const;
+  std::int64_t attr_int64(const std::string& name) const;
+  std::vector<std::string> attr_names() const;
+
+  hid_t id() const { return h_.id(); }
+
+ private:
+  Handle h_;
+  std::string path_;
+};
+
+class File {
+ public:
+  static File create(const std::string& path);     // truncates
+  static File open_read(const std::string& path);
+  Group root() const;
+  void close() { h_.reset(); }
+  const std::string& path() const { return path_; }
+
+ private:
+  File(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
+  Handle h_;
+  std::string path_;
+};
+
+// A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
+// commit, the temporary is removed. A killed process leaves no file under the final name.
+class AtomicFile {
+ public:
+  explicit AtomicFile(std::string path);
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+  ~AtomicFile();
+  const std::string& temporary() const { return temporary_; }
+  const std::string& path() const { return path_; }
+  void commit();
+
+ private:
+  std::string path_, temporary_;
+  bool committed_ = false;
+};
+
+}  // namespace qmaps::h5

@@ -1,0 +1,45 @@
+#pragma once
+// A map with its parameters resolved: the run-time face of a kernel, so that the command line,
+// the I/O and the tests handle every map alike. ModelOf<Map> (core/model_of.hpp) implements it.
+#include <cstddef>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/ensemble.hpp"
+#include "core/isa.hpp"
+#include "core/params.hpp"
+#include "core/phase.hpp"
+#include "core/run_plan.hpp"
+
+namespace qmaps {
+
+// How the runner executes: which path, how many threads, how many SIMD chains per block.
+struct Execution {
+  Isa isa = Isa::scalar;
+  int threads = 1;
+  int chains = 4;  // 1, 2, 4 or 8
+};
+
+class Model {
+ public:
+  virtual ~Model() = default;
+  virtual std::string_view name() const = 0;
+  virtual std::span<const ParamSpec> param_specs() const = 0;
+  virtual std::span<const double> param_values() const = 0;
+  virtual std::span<const std::string_view> state_names() const = 0;
+  virtual const std::vector<std::string>& invariant_names() const = 0;
+
+  // The ensemble that starts at these phase-space points (orbits whose start is already beyond
+  // the bound or non-finite are escaped at step 0), with its invariants' initial values.
+  virtual Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const = 0;
+  virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x) const = 0;
+
+  virtual Phase phase(const Ensemble& e, std::size_t orbit) const = 0;
+  virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;
+  virtual double time(long long step) const = 0;
+};
+
+}  // namespace qmaps

@@ -1,0 +1,107 @@
+#pragma once
+// ModelOf<Map>: a kernel's Model. The scalar path is instantiated here; the SIMD paths are the
+// per-ISA instantiations of advance_blocks<Map, Arch>, run over blocks by OpenMP (static schedule).
+#include <stdexcept>
+#include <string>
+
+#include "core/advance.hpp"
+#include "core/error.hpp"
+#include "core/reference.hpp"
+#include "core/tracking.hpp"
+#include "core/xsimd_arch.hpp"
+
+namespace qmaps {
+
+template <class Map>
+class ModelOf final : public Model {
+ public:
+  explicit ModelOf(const ParamValues& given)
+      : values_(resolve_params(Map::name, Map::params, given)),
+        c_(Map::coefficients(values_)),
+        invariant_names_(Map::invariant_names(c_)) {}
+
+  std::string_view name() const override { return Map::name; }
+  std::span<const ParamSpec> param_specs() const override { return Map::params; }
+  std::span<const double> param_values() const override { return values_; }
+  std::span<const std::string_view> state_names() const override { return Map::state_names; }
+  const std::vector<std::string>& invariant_names() const override { return invariant_names_; }
+  const typename Map::Coeffs& coeffs() const { return c_; }
+
+  Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const override {
+    Ensemble e(initial.size(), Map::state_names.size(), invariant_names_.size());
+    for (std::size_t i = 0; i < initial.size(); ++i) {
+      const auto s = Map::from_phase_space(c_, initial[i], rule);
+      for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
+      if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
+        e.escape_step[i] = 0;
+        e.escape_reason[i] = static_cast<std::uint8_t>(classify_escape(s));
+      }
+      double values[Map::max_invariants];
+      Map::invariants(c_, s, values);
+      for (std::size_t k = 0; k < invariant_names_.size(); ++k) {
+        e.invariant_initial[k][i] = values[k];
+        e.invariant_max_drift[k][i] = 0;
+      }
+    }
+    e.fill_padding();
+    return e;
+  }
+
+  void advance(Ensemble& e, const RunPlan& plan, const Execution& x) const override {
+    if (plan.stride < 1) throw usage_error("stride must be >= 1");
+    if (x.isa == Isa::scalar) {
+      advance_reference<Map>(c_, e, plan);
+    } else {
+      const auto run = blocks_for(x.isa);
+      const std::size_t block = isa_lanes(x.isa) * static_cast<std::size_t>(x.chains);
+      if (Ensemble::padding % block != 0)
+        throw usage_error("chains must be 1, 2, 4 or 8 (got " + std::to_string(x.chains) + ")");
+      const long long blocks = static_cast<long long>(e.padded / block);
+#pragma omp parallel for schedule(static) num_threads(x.threads)
+      for (long long b = 0; b < blocks; ++b)
+        run(c_, e, static_cast<std::size_t>(b) * block, block, x.chains, plan);
+    }
+    e.step = plan.last;
+  }
+
+  Phase phase(const Ensemble& e, std::size_t orbit) const override {
+    return Map::to_phase_space(c_, state_of(e, orbit));
+  }
+  std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const override {
+    double values[Map::max_invariants];
+    Map::invariants(c_, state_of(e, orbit), values);
+    return {values, values + invariant_names_.size()};
+  }
+  double time(long long step) const override { return Map::time(c_, step); }
+
+ private:
+  using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
+                          const RunPlan&);
+
+  static typename Map::template State<double> state_of(const Ensemble& e, std::size_t orbit) {
+    typename Map::template State<double> s;
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][orbit];
+    return s;
+  }
+
+  static Blocks blocks_for(Isa isa) {
+    switch (isa) {
+#ifdef QMAPS_HAVE_SSE2
+      case Isa::sse2: return &advance_blocks<Map, arch_of<Isa::sse2>>;
+#endif
+#ifdef QMAPS_HAVE_AVX2
+      case Isa::avx2: return &advance_blocks<Map, arch_of<Isa::avx2>>;
+#endif
+#ifdef QMAPS_HAVE_AVX512
+      case Isa::avx512: return &advance_blocks<Map, arch_of<Isa::avx512>>;
+#endif
+      default: throw Error(ExitCode::unsupported, "no SIMD path for " + std::string(isa_name(isa)));
+    }
+  }
+
+  std::vector<double> values_;
+  typename Map::Coeffs c_;
+  std::vector<std::string> invariant_names_;
+};
+
+}  // namespace qmaps

@@ -1,0 +1,124 @@
+#pragma once
+// The value-type layer: every kernel computes through these functions, written once for a scalar
+// (double, long double) and for an xsimd batch of doubles, with the same algorithm on both so that
+// a lane of a batch and the scalar reference round identically, bit for bit.
+//
+//   +, -, *, /      IEEE operators of the type itself (correctly rounded on every path)
+//   fma(a, b, c)    a·b + c rounded once: hardware FMA where the ISA has it, std::fma per lane else
+//   sqrt, abs       correctly rounded / exact on every path
+//   select, max     per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
+//
+// This is the only file that touches xsimd or intrinsics.
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstddef>
+#include <type_traits>
+
+#include <immintrin.h>
+#include <xsimd/xsimd.hpp>
+
+namespace qmaps::ops {
+
+template <class V>
+struct traits;
+
+template <std::floating_point T>
+struct traits<T> {
+  using scalar = T;
+  using mask = bool;
+  static constexpr std::size_t lanes = 1;
+};
+
+template <class A>
+struct traits<xsimd::batch<double, A>> {
+  using scalar = double;
+  using mask = xsimd::batch_bool<double, A>;
+  static constexpr std::size_t lanes = xsimd::batch<double, A>::size;
+};
+
+template <class V>
+using mask_t = typename traits<V>::mask;
+template <class V>
+inline constexpr std::size_t lanes = traits<V>::lanes;
+
+// ---- scalar ---------------------------------------------------------------------------------
+template <std::floating_point T>
+inline T fma(T a, T b, T c) { return std::fma(a, b, c); }
+template <std::floating_point T>
+inline T sqrt(T a) { return std::sqrt(a); }
+template <std::floating_point T>
+inline T abs(T a) { return std::fabs(a); }
+template <std::floating_point T>
+inline T select(bool m, T a, T b) { return m ? a : b; }
+inline bool any(bool m) { return m; }
+inline bool all(bool m) { return m; }
+inline bool negate(bool m) { return !m; }
+
+template <std::floating_point T>
+inline T load(const double* p) { return static_cast<T>(*p); }
+template <std::floating_point T>
+inline void store(double* p, T v) { *p = static_cast<double>(v); }
+template <std::floating_point T>
+inline std::array<double, 1> lanes_of(T v) { return {static_cast<double>(v)}; }
+inline std::array<bool, 1> lanes_of(bool m) { return {m}; }
+
+// ---- batch ----------------------------------------------------------------------------------
+template <class A>
+using batch = xsimd::batch<double, A>;
+
+template <class A>
+inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
+  if constexpr (std::is_same_v<A, xsimd::avx512f>) {
+    return _mm512_fmadd_pd(a, b, c);  // xsimd 8 falls back to a·b + c on avx512f: not fused
+  } else if constexpr (std::is_same_v<A, xsimd::fma3<xsimd::avx2>>) {
+    return _mm256_fmadd_pd(a, b, c);
+  } else {  // no FMA unit: one exactly rounded std::fma per lane, as the scalar path does
+    alignas(64) std::array<double, batch<A>::size> x, y, z;
+    a.store_aligned(x.data());
+    b.store_aligned(y.data());
+    c.store_aligned(z.data());
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], z[i]);
+    return batch<A>::load_aligned(x.data());
+  }
+}
+template <class A>
+inline batch<A> sqrt(batch<A> a) { return xsimd::sqrt(a); }
+template <class A>
+inline batch<A> abs(batch<A> a) { return xsimd::abs(a); }
+template <class A>
+inline batch<A> select(xsimd::batch_bool<double, A> m, batch<A> a, batch<A> b) {
+  return xsimd::select(m, a, b);
+}
+template <class A>
+inline bool any(xsimd::batch_bool<double, A> m) { return xsimd::any(m); }
+template <class A>
+inline bool all(xsimd::batch_bool<double, A> m) { return xsimd::all(m); }
+template <class A>
+inline xsimd::batch_bool<double, A> negate(xsimd::batch_bool<double, A> m) { return !m; }
+
+template <class V>
+  requires(!std::floating_point<V>)
+inline V load(const double* p) { return V::load_aligned(p); }
+template <class A>
+inline void store(double* p, batch<A> v) { v.store_aligned(p); }
+template <class A>
+inline std::array<double, batch<A>::size> lanes_of(batch<A> v) {
+  alignas(64) std::array<double, batch<A>::size> out;
+  v.store_aligned(out.data());
+  return out;
+}
+template <class A>
+inline std::array<bool, batch<A>::size> lanes_of(xsimd::batch_bool<double, A> m) {
+  std::array<bool, batch<A>::size> out;
+  m.store_unaligned(out.data());
+  return out;
+}
+
+// ---- written once for both --------------------------------------------------------------------
+template <class V>
+inline V max(V a, V b) { return select(b > a, b, a); }
+template <class V>
+inline V square(V a) { return a * a; }
+
+}  // namespace qmaps::ops

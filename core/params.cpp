@@ -1,0 +1,39 @@
+#include "core/params.hpp"
+
+#include <sstream>
+
+#include "core/error.hpp"
+
+namespace qmaps {
+
+std::vector<double> resolve_params(std::string_view map, std::span<const ParamSpec> specs,
+                                   const ParamValues& given) {
+  const auto known = [&](std::string_view name) {
+    for (const auto& s : specs)
+      if (s.name == name) return true;
+    return false;
+  };
+  for (const auto& [name, value] : given) {
+    if (known(name)) continue;
+    std::ostringstream msg;
+    msg << "map '" << map << "' has no parameter '" << name << "' (its parameters:";
+    for (const auto& s : specs) msg << ' ' << s.name;
+    msg << ')';
+    throw usage_error(msg.str());
+  }
+  std::vector<double> values;
+  for (const auto& s : specs) {
+    const auto it = given.find(s.name);
+    if (it == given.end() && s.required())
+      throw usage_error("map '" + std::string(map) + "': parameter '" + std::string(s.name) +
+                        "' is missing (" + std::string(s.meaning) + ")");
+    const double v = it == given.end() ? s.default_value : it->second;
+    if (!std::isfinite(v))
+      throw usage_error("map '" + std::string(map) + "': parameter '" + std::string(s.name) +
+                        "' must be finite");
+    values.push_back(v);
+  }
+  return values;
+}
+
+}  // namespace qmaps

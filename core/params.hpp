@@ -1,0 +1,28 @@
+#pragma once
+// A map's parameters: what each one is called and means, and the values a run resolves them to.
+#include <cmath>
+#include <limits>
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace qmaps {
+
+struct ParamSpec {
+  std::string_view name;
+  std::string_view meaning;
+  double default_value = std::numeric_limits<double>::quiet_NaN();  // NaN: the user must give it
+  bool required() const { return std::isnan(default_value); }
+};
+
+// Values given by the user, by name.
+using ParamValues = std::map<std::string, double, std::less<>>;
+
+// The values in the order of `specs`: defaults filled in; an unknown, missing or non-finite
+// value is a usage error naming the map and the parameter.
+std::vector<double> resolve_params(std::string_view map, std::span<const ParamSpec> specs,
+                                   const ParamValues& given);
+
+}  // namespace qmaps

@@ -1,0 +1,35 @@
+#pragma once
+// The scalar reference path: the kernel template at V = double, one orbit at a time, one step at a
+// time, no threads. Every other path must reproduce it bit for bit.
+#include <array>
+
+#include "core/ensemble.hpp"
+#include "core/run_plan.hpp"
+#include "core/tracking.hpp"
+
+namespace qmaps {
+
+template <class Map>
+void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan) {
+  using State = typename Map::template State<double>;
+  const double bound2 = plan.escape_bound2();
+  for (std::size_t i = 0; i < e.orbits; ++i) {
+    if (e.escape_step[i] >= 0) continue;
+    State s;
+    for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][i];
+    for (long long n = plan.first + 1; n <= plan.last; ++n) {
+      State next = s;
+      Map::step(c, next);
+      if (!(Map::escape_measure(next) <= bound2)) {
+        e.escape_step[i] = n;
+        e.escape_reason[i] = static_cast<std::uint8_t>(classify_escape(next));
+        break;
+      }
+      s = next;
+      if (plan.track_invariants && plan.samples_at(n)) sample_invariants<Map>(c, s, e, i, true);
+    }
+    for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
+  }
+}
+
+}  // namespace qmaps

@@ -1,0 +1,21 @@
+#pragma once
+// What one call of the runner does: advance an ensemble from step `first` to step `last` of a run
+// of `total` steps. Invariants are sampled at every multiple of `stride` and at step `total`, so
+// a run cut into segments (checkpoint and resume) samples exactly as the uninterrupted run.
+#include <cmath>
+
+namespace qmaps {
+
+struct RunPlan {
+  long long first = 0;
+  long long last = 0;
+  long long total = 0;
+  long long stride = 1;
+  double escape_bound = 1e8;      // an orbit escapes when |q| > escape_bound or it is non-finite
+  bool track_invariants = true;
+
+  double escape_bound2() const { return escape_bound * escape_bound; }
+  bool samples_at(long long n) const { return n % stride == 0 || n == total; }
+};
+
+}  // namespace qmaps

@@ -1,0 +1,35 @@
+#include "ensembles/catalogue.hpp"
+
+#include <array>
+#include <string>
+
+#include "core/error.hpp"
+#include "core/model_of.hpp"
+#include "kernels/suris.hpp"
+
+namespace qmaps {
+namespace {
+
+template <class Map>
+MapEntry entry() {
+  return {Map::name, Map::summary, Map::params,
+          [](const ParamValues& p) -> std::unique_ptr<Model> {
+            return std::make_unique<ModelOf<Map>>(p);
+          }};
+}
+
+const std::array maps = {entry<kernels::Suris>()};
+
+}  // namespace
+
+std::span<const MapEntry> catalogue() { return maps; }
+
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params) {
+  for (const auto& m : maps)
+    if (m.name == name) return m.make(params);
+  std::string known;
+  for (const auto& m : maps) known += (known.empty() ? "" : ", ") + std::string(m.name);
+  throw usage_error("unknown map '" + std::string(name) + "' (known maps: " + known + ")");
+}
+
+}  // namespace qmaps

@@ -1,0 +1,22 @@
+#pragma once
+// Every map qmaps runs, by the name that `--map` and `[map] name` take.
+#include <memory>
+#include <span>
+#include <string_view>
+
+#include "core/model.hpp"
+
+namespace qmaps {
+
+struct MapEntry {
+  std::string_view name;
+  std::string_view summary;
+  std::span<const ParamSpec> params;
+  std::unique_ptr<Model> (*make)(const ParamValues&);
+};
+
+std::span<const MapEntry> catalogue();
+// The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
+
+}  // namespace qmaps

@@ -1,0 +1,60 @@
+// qmaps: ensembles of orbits of the integrable maps of H = |p|²/2 + A q1² + B q2² + α q1⁴ + β q2⁴
+// + δ q1² q2², advanced in SIMD across millions of initial conditions. See `qmaps --help`.
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+#include "ensembles/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"qmaps: ensembles of orbits of integrable maps of a quartic-potential Hamiltonian"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("qmaps ") + qmaps::build::version + " (" +
+                                        qmaps::build::commit + ", " + qmaps::build::compiler + ")");
+
+  qmaps::RunOptions run;
+  auto* run_cmd = app.add_subcommand("run", "advance an ensemble as a TOML config says; write HDF5");
+  run_cmd->add_option("config", run.config_path, "TOML configuration file")->required();
+  run_cmd->add_option("--set", run.sets, "override a config key: section.key=value (repeatable)");
+  run_cmd->add_option("--out", run.out, "output HDF5 file (overrides [output] file)");
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--simd", run.simd, "path: auto, scalar (the reference), sse2, avx2, avx512")
+      ->capture_default_str();
+  run_cmd->add_flag("--quiet", run.quiet, "no progress output");
+
+  qmaps::OrbitOptions orbit;
+  auto* orbit_cmd = app.add_subcommand("orbit", "one orbit as CSV on stdout (the scalar reference path)");
+  orbit_cmd->add_option("--map", orbit.map, "map name")->required();
+  orbit_cmd->add_option("--set", orbit.sets, "a map parameter: name=value (repeatable)");
+  orbit_cmd->add_option("--ic", orbit.ic, "initial condition q1,q2,p1,p2")->required();
+  orbit_cmd->add_option("--steps", orbit.steps, "number of steps N")->required();
+  orbit_cmd->add_option("--every", orbit.every, "print every K-th step")->capture_default_str();
+  orbit_cmd->add_option("--start", orbit.start, "start rule: taylor or euler")->capture_default_str();
+  orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : static_cast<int>(qmaps::ExitCode::usage);
+  }
+
+  try {
+    if (*run_cmd) {
+      for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
+      return qmaps::run_command(run, std::cerr);
+    }
+    return qmaps::orbit_command(orbit, std::cout, std::cerr);
+  } catch (const qmaps::Error& e) {
+    std::cerr << "qmaps: error: " << e.what() << '\n';
+    return static_cast<int>(e.code());
+  } catch (const std::exception& e) {
+    std::cerr << "qmaps: error: " << e.what() << '\n';
+    return static_cast<int>(qmaps::ExitCode::failure);
+  }
+}

@@ -1,0 +1,103 @@
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "ensembles/catalogue.hpp"
+#include "ensembles/commands.hpp"
+
+namespace qmaps {
+namespace {
+
+ParamValues parse_params(const std::vector<std::string>& sets) {
+  ParamValues params;
+  for (const auto& s : sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw usage_error("--set expects name=value, got '" + s + "'");
+    const std::string name = s.substr(0, eq), text = s.substr(eq + 1);
+    std::size_t used = 0;
+    double value = 0;
+    try {
+      value = std::stod(text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != text.size())
+      throw usage_error("--set " + name + ": '" + text + "' is not a number");
+    params[name] = value;
+  }
+  return params;
+}
+
+Phase parse_ic(const std::string& text) {
+  std::istringstream in(text);
+  double x[4];
+  std::string item;
+  int k = 0;
+  while (std::getline(in, item, ',')) {
+    std::size_t used = 0;
+    double v = 0;
+    try {
+      v = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (k == 4 || used == 0 || used != item.size() || !std::isfinite(v))
+      throw usage_error("--ic expects four finite numbers q1,q2,p1,p2, got '" + text + "'");
+    x[k++] = v;
+  }
+  if (k != 4) throw usage_error("--ic expects four numbers q1,q2,p1,p2, got '" + text + "'");
+  return {x[0], x[1], x[2], x[3]};
+}
+
+void row(std::ostream& out, long long n, const Phase& x, const std::vector<double>& invariants) {
+  char buf[64];
+  out << n;
+  for (double v : {x.q1, x.q2, x.p1, x.p2}) {
+    std::snprintf(buf, sizeof buf, ",%.17g", v);
+    out << buf;
+  }
+  for (double v : invariants) {
+    std::snprintf(buf, sizeof buf, ",%.17g", v);
+    out << buf;
+  }
+  out << '\n';
+}
+
+}  // namespace
+
+int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
+  const auto model = make_model(o.map, parse_params(o.sets));
+  const Phase ic = parse_ic(o.ic);
+  if (o.steps < 0) throw usage_error("--steps must be >= 0");
+  if (o.every < 1) throw usage_error("--every must be >= 1");
+  if (!(o.escape_bound > 0)) throw usage_error("--escape-bound must be > 0");
+  const Start start = parse_start(o.start);
+
+  Ensemble e = model->start(std::span<const Phase>(&ic, 1), start, o.escape_bound);
+  out << "n,q1,q2,p1,p2";
+  for (const auto& name : model->invariant_names()) out << ',' << name;
+  out << '\n';
+  RunPlan plan;
+  plan.total = o.steps;
+  plan.escape_bound = o.escape_bound;
+  plan.track_invariants = false;
+  for (long long n = 0;;) {
+    if (e.escape_step[0] >= 0) {
+      log << "qmaps orbit: the orbit escaped at step " << e.escape_step[0] << " ("
+          << escape_reason_name(static_cast<EscapeReason>(e.escape_reason[0]))
+          << "); rows stop before it\n";
+      return 0;
+    }
+    row(out, n, model->phase(e, 0), model->invariants(e, 0));
+    if (n >= o.steps) break;
+    plan.first = n;
+    plan.last = std::min(o.steps, n + o.every);
+    model->advance(e, plan, Execution{});
+    n = plan.last;
+  }
+  return 0;
+}
+
+}  // namespace qmaps

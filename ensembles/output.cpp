@@ -1,0 +1,98 @@
+#include "ensembles/output.hpp"
+
+#include <ctime>
+#include <vector>
+
+#include "core/version.hpp"
+
+namespace qmaps {
+namespace {
+
+void write_phase(const h5::Group& g, std::span<const Phase> points) {
+  std::vector<double> column(points.size());
+  const auto put = [&](const char* name, double Phase::*member) {
+    for (std::size_t i = 0; i < points.size(); ++i) column[i] = points[i].*member;
+    g.write(name, column);
+  };
+  put("q1", &Phase::q1);
+  put("q2", &Phase::q2);
+  put("p1", &Phase::p1);
+  put("p2", &Phase::p2);
+}
+
+}  // namespace
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+void write_run(const h5::Group& root, const RunRecord& run) {
+  const Model& model = run.model;
+  const Ensemble& e = run.ensemble;
+  const std::size_t n = e.orbits;
+
+  root.attr("schema_version", schema_version);
+  root.attr("qmaps_version", build::version);
+  root.attr("git_commit", build::commit);
+  root.attr("compiler", build::compiler);
+  root.attr("map", std::string(model.name()));
+  const auto specs = model.param_specs();
+  const auto values = model.param_values();
+  for (std::size_t k = 0; k < specs.size(); ++k)
+    root.attr("param." + std::string(specs[k].name), values[k]);
+  root.attr("steps", static_cast<std::int64_t>(run.plan.total));
+  root.attr("time", model.time(run.plan.total));
+  root.attr("orbits", static_cast<std::int64_t>(n));
+  root.attr("ensemble", run.ensemble_kind);
+  root.attr("seed", static_cast<std::int64_t>(run.seed));
+  root.attr("start", std::string(start_name(run.start)));
+  root.attr("stride", static_cast<std::int64_t>(run.plan.stride));
+  root.attr("escape_bound", run.plan.escape_bound);
+  root.attr("escaped", static_cast<std::int64_t>(e.escaped()));
+  root.attr("isa", std::string(isa_name(run.execution.isa)));
+  root.attr("threads", static_cast<std::int64_t>(run.execution.threads));
+  root.attr("chains", static_cast<std::int64_t>(run.execution.chains));
+  root.attr("config", run.config_text);
+  root.attr("config_resolved", run.config_resolved);
+  root.attr("command_line", run.command_line);
+  root.attr("started", run.started);
+  root.attr("finished", run.finished);
+
+  write_phase(root.create_group("initial"), run.initial);
+
+  std::vector<Phase> final_points(n);
+  for (std::size_t i = 0; i < n; ++i) final_points[i] = model.phase(e, i);
+  const auto final_group = root.create_group("final");
+  write_phase(final_group, final_points);
+  const auto state = final_group.create_group("state");
+  state.attr("step", static_cast<std::int64_t>(e.step));
+  const auto names = model.state_names();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    state.write(std::string(names[k]), e.state[k].span().first(n));
+
+  const auto invariants = root.create_group("invariants");
+  const auto& inv_names = model.invariant_names();
+  std::vector<std::vector<double>> finals(inv_names.size(), std::vector<double>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto v = model.invariants(e, i);
+    for (std::size_t k = 0; k < v.size(); ++k) finals[k][i] = v[k];
+  }
+  for (std::size_t k = 0; k < inv_names.size(); ++k) {
+    const auto g = invariants.create_group(inv_names[k]);
+    g.write("initial", e.invariant_initial[k].span().first(n));
+    g.write("final", finals[k]);
+    g.write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
+  }
+
+  const auto escape = root.create_group("escape");
+  escape.write("step", e.escape_step.span().first(n));
+  escape.write("reason", e.escape_reason.span().first(n));
+  escape.attr("reason_codes", "0 none, 1 non-finite, 2 beyond bound");
+}
+
+}  // namespace qmaps

@@ -1,0 +1,131 @@
+#pragma once
+// Suris' map: the paper's case I (β = α, δ = 2α), discretization (b); MAPS.md §1. Discretization
+// (a) solves to the same update (§1a). With x = q_{n−1}, y = q_n, z = q_{n+1}:
+//
+//   D  = 1 + 2αh²(y1² + y2²)
+//   z1 = 2(1 − Ah²) y1 / D − x1,      z2 = 2(1 − Bh²) y2 / D − x2
+//
+// State (u, v) = (q_n, q_{n+1}), p = (v − u)/h, a = 1 − Ah², b = 1 − Bh², g = 2αh²:
+//   H  = ½|p|² + A u1v1 + B u2v2 + α|u|²|v|²                          (disc-hamilton2)
+//   I1 = v1² + u1² − 2a u1v1 + g u1²v1² + g/(a²−b²)·[a²(v1²u2² + u1²v2²) − 2ab u1u2v1v2]
+//   I2 = the same with 1 ↔ 2, a ↔ b                                    (A ≠ B only; erratum E3)
+//   I1 + I2 = 2h² H. I1 and I2 are evaluated in the algebraically equal, well-conditioned form
+//   I1 = (v1−u1)² + 2Ah² u1v1 + g u1²v1² + g a²(X−Y)²/(a²−b²) + 2g a XY/(a+b), X = v1u2, Y = u1v2.
+#include <array>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/ops.hpp"
+#include "core/params.hpp"
+#include "core/phase.hpp"
+
+namespace qmaps::kernels {
+
+struct Suris {
+  static constexpr std::string_view name = "suris";
+  static constexpr std::string_view summary =
+      "case I (beta = alpha, delta = 2 alpha), Suris' discretization (b), identical to (a)";
+  static constexpr std::array<ParamSpec, 4> params = {{
+      {"A", "coefficient of q1^2 in the potential"},
+      {"B", "coefficient of q2^2 in the potential"},
+      {"alpha", "quartic coupling: alpha (q1^2 + q2^2)^2"},
+      {"h", "time step, > 0"},
+  }};
+  static constexpr std::array<std::string_view, 4> state_names = {"q1_n", "q2_n", "q1_n+1",
+                                                                   "q2_n+1"};
+  template <class V>
+  using State = std::array<V, 4>;
+  static constexpr std::size_t max_invariants = 3;
+
+  struct Coeffs {
+    double A, B, alpha, h;
+    double two_a, two_b, g;           // 2(1 − Ah²), 2(1 − Bh²), 2αh²
+    double inv_h, two_Ah2, two_Bh2;   // 1/h, 2Ah², 2Bh²
+    double k1, k2, kx1, kx2;          // g a²/(a²−b²), g b²/(b²−a²), 2g a/(a+b), 2g b/(a+b)
+    bool has_I12;                     // A ≠ B
+  };
+
+  static Coeffs coefficients(std::span<const double> p) {
+    const double A = p[0], B = p[1], alpha = p[2], h = p[3];
+    if (!(h > 0)) throw usage_error("suris: h must be > 0 (got " + std::to_string(h) + ")");
+    const double h2 = h * h, a = 1 - A * h2, b = 1 - B * h2;
+    if (a == 0) throw usage_error("suris: 1 - A h^2 = 0: the map degenerates (A h^2 = 1)");
+    if (b == 0) throw usage_error("suris: 1 - B h^2 = 0: the map degenerates (B h^2 = 1)");
+    const double g = 2 * alpha * h2;
+    Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 1 / h, 2 * A * h2, 2 * B * h2, 0, 0, 0, 0, A != B};
+    if (c.has_I12) {
+      c.k1 = g * a * a / (a * a - b * b);
+      c.k2 = g * b * b / (b * b - a * a);
+      c.kx1 = 2 * g * a / (a + b);
+      c.kx2 = 2 * g * b / (a + b);
+    }
+    return c;
+  }
+
+  static std::vector<std::string> invariant_names(const Coeffs& c) {
+    if (c.has_I12) return {"H", "I1", "I2"};
+    return {"H"};
+  }
+
+  template <class V>
+  static void step(const Coeffs& c, State<V>& s) {
+    const V y1 = s[2], y2 = s[3];
+    const V inv = V(1.0) / ops::fma(V(c.g), norm2(y1, y2), V(1.0));
+    const V z1 = ops::fma(V(c.two_a) * y1, inv, -s[0]);
+    const V z2 = ops::fma(V(c.two_b) * y2, inv, -s[1]);
+    s = {y1, y2, z1, z2};
+  }
+
+  // |q_{n+1}|²: the runner's escape test, and the same expression as D's, so it costs nothing.
+  template <class V>
+  static V escape_measure(const State<V>& s) { return norm2(s[2], s[3]); }
+
+  template <class V>
+  static void invariants(const Coeffs& c, const State<V>& s, V* out) {
+    const V u1 = s[0], u2 = s[1], v1 = s[2], v2 = s[3];
+    const V p1 = (v1 - u1) * V(c.inv_h), p2 = (v2 - u2) * V(c.inv_h);
+    const V w1 = u1 * v1, w2 = u2 * v2;
+    out[0] = V(0.5) * norm2(p1, p2) + V(c.A) * w1 + V(c.B) * w2 +
+             V(c.alpha) * norm2(u1, u2) * norm2(v1, v2);
+    if (!c.has_I12) return;
+    const V d1 = v1 - u1, d2 = v2 - u2, X = v1 * u2, Y = u1 * v2, XmY = X - Y, XY = X * Y;
+    const V cross = ops::square(XmY);
+    out[1] = d1 * d1 + V(c.two_Ah2) * w1 + V(c.g) * (w1 * w1) + V(c.k1) * cross + V(c.kx1) * XY;
+    out[2] = d2 * d2 + V(c.two_Bh2) * w2 + V(c.g) * (w2 * w2) + V(c.k2) * cross + V(c.kx2) * XY;
+  }
+
+  // The continuous acceleration F(q) = −∇V.
+  static std::array<double, 2> force(const Coeffs& c, double q1, double q2) {
+    const double r2 = q1 * q1 + q2 * q2;
+    return {-2 * c.A * q1 - 4 * c.alpha * q1 * r2, -2 * c.B * q2 - 4 * c.alpha * q2 * r2};
+  }
+
+  static State<double> from_phase_space(const Coeffs& c, const Phase& x, Start start) {
+    State<double> s{x.q1, x.q2, x.q1 + c.h * x.p1, x.q2 + c.h * x.p2};
+    if (start == Start::taylor) {
+      const auto F = force(c, x.q1, x.q2);
+      s[2] += 0.5 * c.h * c.h * F[0];
+      s[3] += 0.5 * c.h * c.h * F[1];
+    }
+    return s;
+  }
+
+  // (q_n, p_n) with the central difference p_n = (q_{n+1} − q_{n−1})/(2h); q_{n−1} is one step of
+  // the reversed state (the update is symmetric under z ↔ x).
+  static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
+    State<double> back{s[2], s[3], s[0], s[1]};
+    step(c, back);
+    return {s[0], s[1], (s[2] - back[2]) / (2 * c.h), (s[3] - back[3]) / (2 * c.h)};
+  }
+
+  static double time(const Coeffs& c, long long n) { return static_cast<double>(n) * c.h; }
+
+ private:
+  template <class V>
+  static V norm2(V a, V b) { return ops::fma(b, b, a * a); }
+};
+
+}  // namespace qmaps::kernels
