@@ -68,6 +68,13 @@ Isa best_isa() {
   return best;
 }
 
+std::vector<Isa> runnable_isas() {
+  std::vector<Isa> out;
+  for (Isa isa : compiled_isas())
+    if (cpu_supports(isa)) out.push_back(isa);
+  return out;
+}
+
 Isa resolve_isa(std::string_view request) {
   if (request == "auto") return best_isa();
   const Isa isa = parse_isa(request);

@@ -44,6 +44,7 @@ struct Suris {
     double A, B, alpha, h;
     double two_a, two_b, g;           // 2(1 − Ah²), 2(1 − Bh²), 2αh²
     double inv_h, two_Ah2, two_Bh2;   // 1/h, 2Ah², 2Bh²
+    double HA, HB, Halpha;            // A, B, α as the rounded map realises them (for H)
     double k1, k2, kx1, kx2;          // g a²/(a²−b²), g b²/(b²−a²), 2g a/(a+b), 2g b/(a+b)
     bool has_I12;                     // A ≠ B
   };
@@ -51,14 +52,17 @@ struct Suris {
   static Coeffs coefficients(std::span<const double> p) {
     const double A = p[0], B = p[1], alpha = p[2], h = p[3];
     if (!(h > 0)) throw usage_error("suris: h must be > 0 (got " + std::to_string(h) + ")");
-    const double h2 = h * h, a = 1 - A * h2, b = 1 - B * h2;
+    const double h2 = h * h, a = 1 - A * h2, b = 1 - B * h2;  // a, b: exact halves of 2a, 2b
     if (a == 0) throw usage_error("suris: 1 - A h^2 = 0: the map degenerates (A h^2 = 1)");
     if (b == 0) throw usage_error("suris: 1 - B h^2 = 0: the map degenerates (B h^2 = 1)");
     const double g = 2 * alpha * h2;
-    Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 1 / h, 2 * A * h2, 2 * B * h2, 0, 0, 0, 0, A != B};
-    if (c.has_I12) {
-      c.k1 = g * a * a / (a * a - b * b);
-      c.k2 = g * b * b / (b * b - a * a);
+    // The invariants' coefficients come from the map's rounded ones (2 − 2a is exact), so the
+    // invariants are those of the map as it is computed, not of a map one rounding away.
+    Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 1 / h, 2 - 2 * a, 2 - 2 * b,
+             (1 - a) / h2, (1 - b) / h2, g / (2 * h2), 0, 0, 0, 0, A != B};
+    if (c.has_I12) {  // a² − b² = (a − b)(a + b), with a − b exact
+      c.k1 = g * a * a / ((a - b) * (a + b));
+      c.k2 = g * b * b / ((b - a) * (a + b));
       c.kx1 = 2 * g * a / (a + b);
       c.kx2 = 2 * g * b / (a + b);
     }
@@ -88,8 +92,8 @@ struct Suris {
     const V u1 = s[0], u2 = s[1], v1 = s[2], v2 = s[3];
     const V p1 = (v1 - u1) * V(c.inv_h), p2 = (v2 - u2) * V(c.inv_h);
     const V w1 = u1 * v1, w2 = u2 * v2;
-    out[0] = V(0.5) * norm2(p1, p2) + V(c.A) * w1 + V(c.B) * w2 +
-             V(c.alpha) * norm2(u1, u2) * norm2(v1, v2);
+    out[0] = V(0.5) * norm2(p1, p2) + V(c.HA) * w1 + V(c.HB) * w2 +
+             V(c.Halpha) * norm2(u1, u2) * norm2(v1, v2);
     if (!c.has_I12) return;
     const V d1 = v1 - u1, d2 = v2 - u2, X = v1 * u2, Y = u1 * v2, XmY = X - Y, XY = X * Y;
     const V cross = ops::square(XmY);

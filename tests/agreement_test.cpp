@@ -1,0 +1,134 @@
+// Bit-level agreement: every SIMD ISA compiled and supported here, 1 and 2 threads, every block
+// size (chains), and runs cut into segments (resume) reproduce the scalar reference path byte for
+// byte: final states, escape steps and reasons, invariant drift.
+#include <gtest/gtest.h>
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include "core/isa.hpp"
+#include "ensemble_fixtures.hpp"
+
+namespace qmaps {
+namespace {
+
+struct Scenario {
+  const char* name;
+  double alpha, q, p, escape_bound;
+};
+// Bounded orbits; orbits escaping over the barrier of an attractive quartic (α < 0).
+const Scenario bounded{"bounded", 0.9, 0.5, 0.5, 1e8};
+const Scenario escaping{"escaping", -0.4, 1.2, 1.0, 10.0};
+
+std::string hex(double x) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &x, sizeof bits);
+  char text[64];
+  std::snprintf(text, sizeof text, "%a (0x%016" PRIx64 ")", x, bits);
+  return text;
+}
+
+// Empty when a and b agree byte for byte on the real orbits; else the first difference.
+std::string first_difference(const Ensemble& ref, const Ensemble& e, std::size_t lanes) {
+  std::ostringstream out;
+  const auto where = [&](const char* what, std::size_t k, std::size_t i) {
+    out << what << '[' << k << "] orbit " << i << " lane " << i % lanes << ": ";
+  };
+  for (std::size_t i = 0; i < ref.orbits; ++i) {
+    for (std::size_t k = 0; k < ref.state.size(); ++k)
+      if (std::memcmp(&ref.state[k][i], &e.state[k][i], sizeof(double)) != 0) {
+        where("state", k, i);
+        out << "reference " << hex(ref.state[k][i]) << " vs " << hex(e.state[k][i]);
+        return out.str();
+      }
+    for (std::size_t k = 0; k < ref.invariant_max_drift.size(); ++k)
+      if (std::memcmp(&ref.invariant_max_drift[k][i], &e.invariant_max_drift[k][i],
+                      sizeof(double)) != 0) {
+        where("max_abs_drift", k, i);
+        out << "reference " << hex(ref.invariant_max_drift[k][i]) << " vs "
+            << hex(e.invariant_max_drift[k][i]);
+        return out.str();
+      }
+    if (ref.escape_step[i] != e.escape_step[i] || ref.escape_reason[i] != e.escape_reason[i]) {
+      where("escape", 0, i);
+      out << "reference step " << ref.escape_step[i] << " reason " << int(ref.escape_reason[i])
+          << " vs step " << e.escape_step[i] << " reason " << int(e.escape_reason[i]);
+      return out.str();
+    }
+  }
+  return {};
+}
+
+class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size_t>> {};
+
+TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference) {
+  const auto [scenario, orbits] = GetParam();
+  const auto model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
+  const auto points = testing::box_points(orbits, scenario.q, scenario.p);
+  RunPlan plan;
+  plan.total = plan.last = 400;
+  plan.stride = 7;
+  plan.escape_bound = scenario.escape_bound;
+
+  Ensemble ref = model->start(points, Start::taylor, plan.escape_bound);
+  model->advance(ref, plan, Execution{Isa::scalar, 1, 1});
+  if (scenario.alpha < 0 && orbits > 100) {
+    const std::size_t escaped = ref.escaped();
+    EXPECT_GT(escaped, orbits / 10) << "the escaping scenario must exercise escapes";
+    EXPECT_LT(escaped, orbits) << "and keep some orbits bounded";
+  }
+
+  const auto isas = runnable_isas();
+  ASSERT_FALSE(isas.empty());
+  std::string ran;
+  for (Isa isa : isas) {
+    ran += std::string(isa_name(isa)) + " ";
+    for (int threads : {1, 2})
+      for (int chains : {1, 2, 4, 8}) {
+        Ensemble e = model->start(points, Start::taylor, plan.escape_bound);
+        model->advance(e, plan, Execution{isa, threads, chains});
+        EXPECT_EQ(first_difference(ref, e, isa_lanes(isa)), "")
+            << "ISA " << isa_name(isa) << ", " << threads << " threads, " << chains << " chains";
+      }
+  }
+  std::cout << "[ ISAs run ] " << ran << '\n';
+}
+
+TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun) {
+  const auto [scenario, orbits] = GetParam();
+  const auto model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
+  const auto points = testing::box_points(orbits, scenario.q, scenario.p);
+  RunPlan plan;
+  plan.total = plan.last = 400;
+  plan.stride = 7;
+  plan.escape_bound = scenario.escape_bound;
+  Ensemble whole = model->start(points, Start::taylor, plan.escape_bound);
+  model->advance(whole, plan, Execution{Isa::scalar, 1, 1});
+
+  const auto isas = runnable_isas();
+  Ensemble cut = model->start(points, Start::taylor, plan.escape_bound);
+  const long long bounds[] = {0, 1, 130, 131, 333, 400};
+  for (int s = 0; s + 1 < 6; ++s) {
+    RunPlan segment = plan;
+    segment.first = bounds[s];
+    segment.last = bounds[s + 1];
+    const Isa isa = s % 2 == 0 || isas.empty() ? Isa::scalar : isas[s % isas.size()];
+    model->advance(cut, segment, Execution{isa, 1 + s % 2, 4});
+  }
+  EXPECT_EQ(first_difference(whole, cut, 1), "");
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Suris, Agreement,
+    ::testing::Combine(::testing::Values(bounded, escaping),
+                       ::testing::Values(std::size_t{1}, std::size_t{7}, std::size_t{1001},
+                                         std::size_t{65537})),
+    [](const auto& info) {
+      return std::string(std::get<0>(info.param).name) + "_" +
+             std::to_string(std::get<1>(info.param));
+    });
+
+}  // namespace
+}  // namespace qmaps

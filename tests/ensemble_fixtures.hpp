@@ -1,0 +1,26 @@
+#pragma once
+// Ensembles the numerical tests share: Suris orbits from a box, bounded or escaping.
+#include <memory>
+#include <vector>
+
+#include "core/model.hpp"
+#include "ensembles/box.hpp"
+#include "ensembles/catalogue.hpp"
+
+namespace qmaps::testing {
+
+inline std::unique_ptr<Model> suris(double A = 0.7, double B = 0.3, double alpha = 0.9,
+                                    double h = 0.1) {
+  return make_model("suris", {{"A", A}, {"B", B}, {"alpha", alpha}, {"h", h}});
+}
+
+// n points uniform in [−q, q]² × [−p, p]², Philox-keyed by orbit index.
+inline std::vector<Phase> box_points(std::size_t n, double q, double p, std::uint64_t seed = 7) {
+  Box box;
+  box.orbits = n;
+  box.seed = seed;
+  box.ranges = {{{-q, q}, {-q, q}, {-p, p}, {-p, p}}};
+  return box.points();
+}
+
+}  // namespace qmaps::testing
