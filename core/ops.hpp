@@ -5,6 +5,9 @@
 //
 //   +, -, *, /      IEEE operators of the type itself (correctly rounded on every path)
 //   fma(a, b, c)    a·b + c rounded once: hardware FMA where the ISA has it, std::fma per lane else
+//   fms(a, b, c)    a·b − c rounded once, likewise
+//   neg(a)          −a exactly, signed zeros included. Never write unary minus on a batch:
+//                   xsimd 8's AVX-512 negation is 0 − a, which maps +0 to +0.
 //   sqrt, abs       correctly rounded / exact on every path
 //   select, max     per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //
@@ -46,6 +49,8 @@ inline constexpr std::size_t lanes = traits<V>::lanes;
 template <std::floating_point T>
 inline T fma(T a, T b, T c) { return std::fma(a, b, c); }
 template <std::floating_point T>
+inline T fms(T a, T b, T c) { return std::fma(a, b, -c); }
+template <std::floating_point T>
 inline T sqrt(T a) { return std::sqrt(a); }
 template <std::floating_point T>
 inline T abs(T a) { return std::fabs(a); }
@@ -67,19 +72,38 @@ inline std::array<bool, 1> lanes_of(bool m) { return {m}; }
 template <class A>
 using batch = xsimd::batch<double, A>;
 
+namespace detail {
+// Applies std::fma to each lane, with c negated when `subtract`: the exactly rounded fallback
+// for an ISA without an FMA unit.
+template <class A>
+inline batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) {
+  alignas(64) std::array<double, batch<A>::size> x, y, z;
+  a.store_aligned(x.data());
+  b.store_aligned(y.data());
+  c.store_aligned(z.data());
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], subtract ? -z[i] : z[i]);
+  return batch<A>::load_aligned(x.data());
+}
+}  // namespace detail
+
 template <class A>
 inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
   if constexpr (std::is_same_v<A, xsimd::avx512f>) {
     return _mm512_fmadd_pd(a, b, c);  // xsimd 8 falls back to a·b + c on avx512f: not fused
   } else if constexpr (std::is_same_v<A, xsimd::fma3<xsimd::avx2>>) {
     return _mm256_fmadd_pd(a, b, c);
-  } else {  // no FMA unit: one exactly rounded std::fma per lane, as the scalar path does
-    alignas(64) std::array<double, batch<A>::size> x, y, z;
-    a.store_aligned(x.data());
-    b.store_aligned(y.data());
-    c.store_aligned(z.data());
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], z[i]);
-    return batch<A>::load_aligned(x.data());
+  } else {
+    return detail::fma_per_lane(a, b, c, false);
+  }
+}
+template <class A>
+inline batch<A> fms(batch<A> a, batch<A> b, batch<A> c) {
+  if constexpr (std::is_same_v<A, xsimd::avx512f>) {
+    return _mm512_fmsub_pd(a, b, c);
+  } else if constexpr (std::is_same_v<A, xsimd::fma3<xsimd::avx2>>) {
+    return _mm256_fmsub_pd(a, b, c);
+  } else {
+    return detail::fma_per_lane(a, b, c, true);
   }
 }
 template <class A>
@@ -120,5 +144,8 @@ template <class V>
 inline V max(V a, V b) { return select(b > a, b, a); }
 template <class V>
 inline V square(V a) { return a * a; }
+// −0 − a: exact negation (+0 → −0, −0 → +0), the same arithmetic on every path.
+template <class V>
+inline V neg(V a) { return V(-0.0) - a; }
 
 }  // namespace qmaps::ops

@@ -78,9 +78,12 @@ struct Suris {
   static void step(const Coeffs& c, State<V>& s) {
     const V y1 = s[2], y2 = s[3];
     const V inv = V(1.0) / ops::fma(V(c.g), norm2(y1, y2), V(1.0));
-    const V z1 = ops::fma(V(c.two_a) * y1, inv, -s[0]);
-    const V z2 = ops::fma(V(c.two_b) * y2, inv, -s[1]);
-    s = {y1, y2, z1, z2};
+    const V z1 = ops::fms(V(c.two_a) * y1, inv, s[0]);
+    const V z2 = ops::fms(V(c.two_b) * y2, inv, s[1]);
+    s[0] = y1;
+    s[1] = y2;
+    s[2] = z1;
+    s[3] = z2;
   }
 
   // |q_{n+1}|²: the runner's escape test, and the same expression as D's, so it costs nothing.
