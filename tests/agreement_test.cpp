@@ -6,6 +6,7 @@
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
+#include <set>
 #include <sstream>
 
 #include "core/isa.hpp"
@@ -25,6 +26,8 @@ struct Scenario {
 const Scenario bounded{"bounded", 0.9, 0.5, 0.5, 1e8};
 const Scenario escaping{"escaping", -0.4, 1.2, 1.0, 10.0};
 const Scenario plane{"plane", 0.9, 0.5, 0.5, 1e8, 1, true};  // zeros merge after one step
+
+void PrintTo(const Scenario& s, std::ostream* os) { *os << s.name; }
 
 // The scenario's ensemble; on the plane, the state (q2_n, q2_n+1) = (+0, −0), the one pair of
 // zeros whose step, −0·x + −(+0), tells an exact negation from 0 − x.
@@ -124,14 +127,15 @@ TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun
 
   const auto isas = runnable_isas();
   Ensemble cut = start(*model, scenario, orbits, plan.escape_bound);
-  const long long bounds[] = {0, 1, 130, 131, 333, 400};
-  if (scenario.steps != 400) GTEST_SKIP() << "segments need 400 steps";
-  for (int s = 0; s + 1 < 6; ++s) {
+  const long long n = scenario.steps;
+  std::set<long long> cuts = {0, std::min(1LL, n), n / 3, n / 3 + 1, n * 5 / 6, n};
+  const std::vector<long long> bounds(cuts.begin(), cuts.end());
+  for (std::size_t s = 0; s + 1 < bounds.size(); ++s) {
     RunPlan segment = plan;
     segment.first = bounds[s];
-    segment.last = bounds[s + 1];
+    segment.last = std::min(n, bounds[s + 1]);
     const Isa isa = s % 2 == 0 || isas.empty() ? Isa::scalar : isas[s % isas.size()];
-    model->advance(cut, segment, Execution{isa, 1 + s % 2, 4});
+    model->advance(cut, segment, Execution{isa, 1 + static_cast<int>(s % 2), 4});
   }
   EXPECT_EQ(first_difference(whole, cut, 1), "");
 }

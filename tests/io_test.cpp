@@ -1,0 +1,355 @@
+// The HDF5 file of a run (docs/hdf5-schema.md), read back as written by the qmaps binary; a
+// killed run leaves no file under the final name; AtomicFile commits by rename.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/config.hpp"
+#include "core/error.hpp"
+#include "core/h5.hpp"
+#include "core/version.hpp"
+#include "kernels/suris.hpp"
+#include "run_process.hpp"
+
+namespace qmaps::testing {
+namespace {
+
+using kernels::Suris;
+using State = Suris::State<double>;
+
+const std::vector<std::string> kPhase = {"p1", "p2", "q1", "q2"};  // members are listed by name
+const std::vector<std::string> kState = {"q1_n", "q1_n+1", "q2_n", "q2_n+1"};
+const std::vector<std::string> kInvariants = {"H", "I1", "I2"};
+
+std::string edited(std::string text,
+                   const std::vector<std::pair<std::string, std::string>>& edits) {
+  for (const auto& [prefix, line] : edits) text = with_line(text, prefix, line);
+  return text;
+}
+
+// The preset (100 orbits, 50 steps) with a box whose ranges differ, run with `extra` options.
+class Io : public ::testing::Test {
+ protected:
+  TempDir dir;
+  const std::string output = dir / "run.h5";
+  std::string config = edited(preset_config(output), {{"seed = ", "seed = 7"},
+                                                      {"q1 = ", "q1 = [0.1, 0.2]"},
+                                                      {"q2 = ", "q2 = 0.3"},
+                                                      {"p2 = ", "p2 = [0, 0.001]"},
+                                                      {"stride = ", "stride = 7"}});
+
+  std::vector<h5::File> files;  // open for as long as the test
+
+  // Runs the binary on `config` and opens the file it wrote (at `path`, when given).
+  h5::Group run_root(std::vector<std::string> extra = {}, const std::string& path = "") {
+    write_text(dir / "cfg.toml", config);
+    extra.insert(extra.begin(), {"run", "cfg.toml"});
+    if (!path.empty()) extra.insert(extra.end(), {"--out", path});
+    const Result r = run(extra, dir);
+    EXPECT_EQ(r.status, 0) << r.err;
+    files.push_back(h5::File::open_read(path.empty() ? output : path));
+    return files.back().root();
+  }
+};
+
+std::string attr_type(const h5::Group& g, const std::string& name) {
+  h5::Handle a(H5Aopen(g.id(), name.c_str(), H5P_DEFAULT), H5Aclose);
+  h5::Handle t(H5Aget_type(a.id()), H5Tclose);
+  if (H5Tget_class(t.id()) == H5T_STRING) return "string";
+  if (H5Tequal(t.id(), H5T_STD_I64LE) > 0) return "int64";
+  if (H5Tequal(t.id(), H5T_IEEE_F64LE) > 0) return "float64";
+  return "other";
+}
+
+std::string dataset_type(const h5::Group& g, const std::string& name) {
+  h5::Handle d(H5Dopen2(g.id(), name.c_str(), H5P_DEFAULT), H5Dclose);
+  h5::Handle t(H5Dget_type(d.id()), H5Tclose);
+  if (H5Tequal(t.id(), H5T_STD_I64LE) > 0) return "int64";
+  if (H5Tequal(t.id(), H5T_IEEE_F64LE) > 0) return "float64";
+  if (H5Tequal(t.id(), H5T_STD_U8LE) > 0) return "uint8";
+  return "other";
+}
+
+std::vector<std::uint8_t> read_uint8(const h5::Group& g, const std::string& name) {
+  h5::Handle d(H5Dopen2(g.id(), name.c_str(), H5P_DEFAULT), H5Dclose);
+  h5::Handle s(H5Dget_space(d.id()), H5Sclose);
+  std::vector<std::uint8_t> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s.id())));
+  H5Dread(d.id(), H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
+  return out;
+}
+
+std::vector<std::string> sorted(std::vector<std::string> v) {
+  std::sort(v.begin(), v.end());
+  return v;
+}
+
+const Suris::Coeffs& coeffs() {  // the preset's parameters
+  static const Suris::Coeffs c = Suris::coefficients(std::vector<double>{0.7, 0.3, 0.9, 0.1});
+  return c;
+}
+
+std::vector<State> read_states(const h5::Group& state) {
+  std::vector<std::vector<double>> columns;
+  for (const char* name : {"q1_n", "q2_n", "q1_n+1", "q2_n+1"})
+    columns.push_back(state.read_doubles(name));
+  std::vector<State> out(columns[0].size());
+  for (std::size_t i = 0; i < out.size(); ++i)
+    out[i] = {columns[0][i], columns[1][i], columns[2][i], columns[3][i]};
+  return out;
+}
+
+std::vector<Phase> read_phases(const h5::Group& g) {
+  const auto q1 = g.read_doubles("q1"), q2 = g.read_doubles("q2"), p1 = g.read_doubles("p1"),
+             p2 = g.read_doubles("p2");
+  std::vector<Phase> out(q1.size());
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = {q1[i], q2[i], p1[i], p2[i]};
+  return out;
+}
+
+TEST_F(Io, RootAttributesAreExactlyTheDocumentedOnes) {
+  const auto root = run_root({"--simd", "scalar"});
+  const std::vector<std::pair<std::string, std::vector<std::string>>> documented = {
+      {"int64",
+       {"schema_version", "steps", "orbits", "seed", "stride", "escaped", "threads", "chains"}},
+      {"float64", {"param.A", "param.B", "param.alpha", "param.h", "time", "escape_bound"}},
+      {"string",
+       {"qmaps_version", "git_commit", "compiler", "map", "ensemble", "start", "isa", "config",
+        "config_resolved", "command_line", "started", "finished"}}};
+  std::vector<std::string> names;
+  for (const auto& [type, of_type] : documented)
+    for (const auto& name : of_type) {
+      names.push_back(name);
+      EXPECT_EQ(attr_type(root, name), type) << name;
+    }
+  EXPECT_EQ(sorted(root.attr_names()), sorted(names));
+}
+
+TEST_F(Io, RootAttributesHoldTheRun) {
+  const auto root = run_root({"--simd", "scalar"});
+  EXPECT_EQ(root.attr_int64("schema_version"), 1);
+  EXPECT_EQ(root.attr_string("qmaps_version"), build::version);
+  EXPECT_EQ(root.attr_string("git_commit"), build::commit);
+  EXPECT_EQ(root.attr_string("compiler"), build::compiler);
+  EXPECT_EQ(root.attr_string("map"), "suris");
+  EXPECT_EQ(root.attr_double("param.A"), 0.7);
+  EXPECT_EQ(root.attr_double("param.B"), 0.3);
+  EXPECT_EQ(root.attr_double("param.alpha"), 0.9);
+  EXPECT_EQ(root.attr_double("param.h"), 0.1);
+  EXPECT_EQ(root.attr_int64("steps"), 50);
+  EXPECT_EQ(root.attr_double("time"), 50 * 0.1);
+  EXPECT_EQ(root.attr_int64("orbits"), 100);
+  EXPECT_EQ(root.attr_string("ensemble"), "box");
+  EXPECT_EQ(root.attr_int64("seed"), 7);
+  EXPECT_EQ(root.attr_string("start"), "taylor");
+  EXPECT_EQ(root.attr_int64("stride"), 7);
+  EXPECT_EQ(root.attr_double("escape_bound"), 1e8);
+  EXPECT_EQ(root.attr_int64("escaped"), 0);
+  EXPECT_EQ(root.attr_string("isa"), "scalar");
+  EXPECT_EQ(root.attr_int64("threads"), 1);
+  EXPECT_EQ(root.attr_int64("chains"), 4);
+  EXPECT_EQ(root.attr_string("config"), config);
+  const Config resolved = Config::parse(root.attr_string("config_resolved"), "config_resolved");
+  EXPECT_EQ(resolved.integer("run", "steps"), 50);
+  EXPECT_EQ(resolved.string("output", "file"), output);
+  EXPECT_EQ(root.attr_string("command_line"),
+            std::string(QMAPS_BINARY) + " run cfg.toml --simd scalar");
+  const std::regex iso(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\dZ)");
+  EXPECT_TRUE(std::regex_match(root.attr_string("started"), iso));
+  EXPECT_TRUE(std::regex_match(root.attr_string("finished"), iso));
+  EXPECT_LE(root.attr_string("started"), root.attr_string("finished"));
+}
+
+TEST_F(Io, DatasetsHaveTheDocumentedShapesAndTypes) {
+  const auto root = run_root();
+  const std::size_t n = 100;
+  EXPECT_EQ(root.members(), (std::vector<std::string>{"escape", "final", "initial", "invariants"}));
+  const auto check = [&](const h5::Group& g, const std::vector<std::string>& names,
+                         const std::string& type) {
+    for (const auto& name : names) {
+      EXPECT_EQ(dataset_type(g, name), type) << g.path() << "/" << name;
+      const std::size_t size = type == "uint8"   ? read_uint8(g, name).size()
+                               : type == "int64" ? g.read_int64(name).size()
+                                                 : g.read_doubles(name).size();
+      EXPECT_EQ(size, n) << g.path() << "/" << name;
+    }
+  };
+  const auto initial = root.open_group("initial"), final = root.open_group("final");
+  EXPECT_EQ(initial.members(), kPhase);
+  check(initial, kPhase, "float64");
+  auto final_members = kPhase;
+  final_members.push_back("state");
+  EXPECT_EQ(final.members(), final_members);
+  check(final, kPhase, "float64");
+  const auto state = final.open_group("state");
+  EXPECT_EQ(state.members(), kState);
+  check(state, kState, "float64");
+  EXPECT_EQ(state.attr_int64("step"), 50);
+  const auto invariants = root.open_group("invariants");
+  EXPECT_EQ(invariants.members(), kInvariants);
+  for (const auto& name : kInvariants) {
+    const auto g = invariants.open_group(name);
+    EXPECT_EQ(g.members(), (std::vector<std::string>{"final", "initial", "max_abs_drift"}));
+    check(g, g.members(), "float64");
+  }
+  const auto escape = root.open_group("escape");
+  EXPECT_EQ(escape.members(), (std::vector<std::string>{"reason", "step"}));
+  check(escape, {"step"}, "int64");
+  check(escape, {"reason"}, "uint8");
+  EXPECT_EQ(escape.attr_string("reason_codes"), "0 none, 1 non-finite, 2 beyond bound");
+}
+
+TEST_F(Io, InitialPointsLieInTheBox) {
+  const auto initial = read_phases(run_root().open_group("initial"));
+  ASSERT_EQ(initial.size(), 100u);
+  for (const auto& x : initial) {
+    EXPECT_TRUE(x.q1 >= 0.1 && x.q1 <= 0.2) << x.q1;
+    EXPECT_EQ(x.q2, 0.3);
+    EXPECT_TRUE(x.p1 >= -0.5 && x.p1 <= 0.5) << x.p1;
+    EXPECT_TRUE(x.p2 >= 0 && x.p2 <= 0.001) << x.p2;
+  }
+}
+
+// /final is the kernel's phase of /final/state (central difference), /invariants/*/final its
+// invariants, /invariants/*/initial those of the start; never escaped: drift ≥ |final − initial|.
+TEST_F(Io, FinalPhaseAndInvariantsEqualKernelOfState) {
+  const auto root = run_root();
+  const auto initial = read_phases(root.open_group("initial"));
+  const auto final = read_phases(root.open_group("final"));
+  const auto states = read_states(root.open_group("final").open_group("state"));
+  const auto steps = root.open_group("escape").read_int64("step");
+  const auto inv = root.open_group("invariants");
+  for (std::size_t k = 0; k < kInvariants.size(); ++k) {
+    const auto g = inv.open_group(kInvariants[k]);
+    const auto at0 = g.read_doubles("initial"), at_end = g.read_doubles("final"),
+               drift = g.read_doubles("max_abs_drift");
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      double v0[3], v[3];
+      Suris::invariants(coeffs(), Suris::from_phase_space(coeffs(), initial[i], Start::taylor), v0);
+      Suris::invariants(coeffs(), states[i], v);
+      EXPECT_EQ(at0[i], v0[k]);
+      EXPECT_EQ(at_end[i], v[k]);
+      EXPECT_GE(drift[i], std::fabs(at_end[i] - at0[i]));
+    }
+  }
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    EXPECT_EQ(steps[i], -1);
+    const Phase p = Suris::to_phase_space(coeffs(), states[i]);
+    EXPECT_EQ(final[i].q1, states[i][0]);
+    EXPECT_EQ(final[i].q2, states[i][1]);
+    EXPECT_EQ(final[i].p1, p.p1);
+    EXPECT_EQ(final[i].p2, p.p2);
+  }
+}
+
+TEST_F(Io, ContinuingFinalStateIsIdenticalToLongerRun) {
+  const auto full = read_states(run_root().open_group("final").open_group("state"));
+  config = with_line(config, "steps = ", "steps = 30");
+  auto part = read_states(run_root({}, dir / "part.h5").open_group("final").open_group("state"));
+  ASSERT_EQ(part.size(), full.size());
+  for (std::size_t i = 0; i < part.size(); ++i) {
+    for (int n = 30; n < 50; ++n) Suris::step(coeffs(), part[i]);
+    EXPECT_EQ(part[i], full[i]) << "orbit " << i;
+  }
+}
+
+// Escaped orbits: step and reason agree, `escaped` counts them, the state is frozen at the
+// last state within the bound, and one more step leaves it.
+TEST_F(Io, EscapedOrbitIsFrozenAtLastStateWithinBound) {
+  config = edited(
+      config, {{"q1 = ", "q1 = [-0.5, 0.5]"}, {"stride = ", "stride = 1\nescape_bound = 0.55"}});
+  const auto root = run_root();
+  const auto initial = read_phases(root.open_group("initial"));
+  const auto states = read_states(root.open_group("final").open_group("state"));
+  const auto escape = root.open_group("escape");
+  const auto step = escape.read_int64("step");
+  const auto reason = read_uint8(escape, "reason");
+  const double bound2 = 0.55 * 0.55;
+  std::int64_t escaped = 0;
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    EXPECT_EQ(reason[i], step[i] < 0 ? 0 : 2) << "orbit " << i;
+    ASSERT_GE(step[i], -1);
+    ASSERT_LE(step[i], 50);
+    const long long last = step[i] < 0 ? 50 : std::max<long long>(step[i] - 1, 0);
+    State s = Suris::from_phase_space(coeffs(), initial[i], Start::taylor);
+    for (long long n = 0; n < last; ++n) Suris::step(coeffs(), s);
+    EXPECT_EQ(states[i], s) << "orbit " << i;
+    if (step[i] > 0) {
+      EXPECT_LE(Suris::escape_measure(s), bound2);
+      Suris::step(coeffs(), s);
+      EXPECT_GT(Suris::escape_measure(s), bound2);
+    }
+    escaped += step[i] >= 0;
+  }
+  EXPECT_EQ(root.attr_int64("escaped"), escaped);
+  EXPECT_GT(escaped, 0);
+  EXPECT_LT(escaped, 100);
+}
+
+TEST_F(Io, KilledRunLeavesNoFileUnderFinalName) {
+  config = edited(config, {{"orbits = ", "orbits = 2000000"}, {"steps = ", "steps = 3000"}});
+  write_text(dir / "cfg.toml", config);
+  const pid_t pid = spawn({"run", "cfg.toml"}, dir);
+  const std::string temporary = output + ".tmp-" + std::to_string(pid);
+  for (int i = 0; i < 200 && !fs::exists(temporary); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  EXPECT_TRUE(fs::exists(temporary));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  kill(pid, SIGKILL);
+  const Result r = finish(pid, dir);
+  EXPECT_EQ(r.status, 128 + SIGKILL) << "the run ended before it was killed: " << r.err;
+  EXPECT_FALSE(fs::exists(output));
+}
+
+TEST(IoAtomicFile, DestroyedWithoutCommitRemovesTemporary) {
+  TempDir dir;
+  const std::string path = dir / "x.h5";
+  std::string temporary;
+  {
+    h5::AtomicFile out(path);
+    temporary = out.temporary();
+    EXPECT_EQ(temporary, path + ".tmp-" + std::to_string(getpid()));
+    h5::File::create(temporary).root().attr("a", std::int64_t{1});
+    EXPECT_TRUE(fs::exists(temporary));
+  }
+  EXPECT_FALSE(fs::exists(temporary));
+  EXPECT_FALSE(fs::exists(path));
+}
+
+TEST(IoAtomicFile, CommitRenamesTemporary) {
+  TempDir dir;
+  const std::string path = dir / "x.h5";
+  std::string temporary;
+  {
+    h5::AtomicFile out(path);
+    temporary = out.temporary();
+    h5::File::create(temporary).root().attr("a", std::int64_t{42});
+    EXPECT_FALSE(fs::exists(path));
+    out.commit();
+    EXPECT_TRUE(fs::exists(path));
+    EXPECT_FALSE(fs::exists(temporary));
+  }
+  EXPECT_TRUE(fs::exists(path));  // the destructor leaves a committed file alone
+  EXPECT_EQ(h5::File::open_read(path).root().attr_int64("a"), 42);
+}
+
+TEST(IoAtomicFile, FailedCommitIsAnIoError) {
+  TempDir dir;
+  h5::AtomicFile out(dir / "x.h5");  // no temporary was written: nothing to rename
+  try {
+    out.commit();
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::io);
+    EXPECT_TRUE(Contains(e.what(), "cannot rename"));
+  }
+}
+
+}  // namespace
+}  // namespace qmaps::testing
