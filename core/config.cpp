@@ -109,6 +109,12 @@ std::string Config::where(std::string_view section, std::string_view key) const 
          std::string(key);
 }
 
+std::string Config::where(std::string_view section) const {
+  const auto* s = table_.get_as<toml::table>(section);
+  return source_ + ":" + std::to_string(s ? s->source().begin.line : 0) + ": [" +
+         std::string(section) + "]";
+}
+
 double Config::number(std::string_view section, std::string_view key) const {
   const auto& n = node(section, key);
   const auto v = n.value<double>();
@@ -160,7 +166,7 @@ std::array<double, 2> Config::range(std::string_view section, std::string_view k
     throw usage_error(where(section, key) + " must have finite ends");
   if (lo > hi)
     throw usage_error(where(section, key) + " is an empty range: lo > hi (" +
-                      std::to_string(lo) + " > " + std::to_string(hi) + ")");
+                      number_text(lo) + " > " + number_text(hi) + ")");
   return {lo, hi};
 }
 

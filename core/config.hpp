@@ -43,6 +43,7 @@ class Config {
 
   // "source:line: [section] key" for messages about this key's value.
   std::string where(std::string_view section, std::string_view key) const;
+  std::string where(std::string_view section) const;  // "source:line: [section]"
 
  private:
   const toml::node& node(std::string_view section, std::string_view key) const;

@@ -1,5 +1,6 @@
 #pragma once
 // The one exception type of qmaps: a message for the user and the process exit code it maps to.
+#include <charconv>
 #include <stdexcept>
 #include <string>
 
@@ -23,5 +24,12 @@ class Error : public std::runtime_error {
 };
 
 inline Error usage_error(const std::string& message) { return Error(ExitCode::usage, message); }
+
+// The shortest text that reads back as exactly x (for messages: -1e-09, not -0.000000).
+inline std::string number_text(double x) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, x).ptr;
+  return std::string(text, end);
+}
 
 }  // namespace qmaps

@@ -1,5 +1,6 @@
 #include "core/h5.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -229,7 +230,21 @@ Group File::root() const {
 }
 
 AtomicFile::AtomicFile(std::string path)
-    : path_(std::move(path)), temporary_(path_ + ".tmp-" + std::to_string(getpid())) {}
+    : path_(std::move(path)), temporary_(path_ + ".tmp-" + std::to_string(getpid())) {
+  struct stat info;
+  if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+    throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
+}
+
+File AtomicFile::create_hdf5() const {
+  const hid_t id = H5Fcreate(temporary_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) {
+    const int err = errno;
+    throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
+                                  (err ? std::string(": ") + std::strerror(err) : std::string()));
+  }
+  return File(Handle(id, H5Fclose), temporary_);
+}
 
 AtomicFile::~AtomicFile() {
   if (!committed_) std::remove(temporary_.c_str());

@@ -70,6 +70,7 @@ class File {
   const std::string& path() const { return path_; }
 
  private:
+  friend class AtomicFile;
   File(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
   Handle h_;
   std::string path_;
@@ -77,9 +78,11 @@ class File {
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
 // commit, the temporary is removed. A killed process leaves no file under the final name.
+// Constructed, it has checked that <path> can be written (it is no directory, its folder exists).
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path);
+  File create_hdf5() const;  // the HDF5 file at the temporary; errors name <path>
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile();

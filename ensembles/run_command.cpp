@@ -1,4 +1,5 @@
 #include <omp.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -15,11 +16,61 @@
 namespace qmaps {
 namespace {
 
-ParamValues map_params(const Config& config) {
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The map of [map]; its errors say where in the config the map is.
+std::unique_ptr<Model> map_of(const Config& config) {
+  const std::string name = config.string("map", "name");
   ParamValues params;
   for (const auto& key : config.keys("map"))
     if (key != "name") params[key] = config.number("map", key);
-  return params;
+  try {
+    return make_model(name, params);
+  } catch (const Error& e) {
+    throw Error(e.code(), config.where("map") + ": " + e.what());
+  }
+}
+
+// Refuses, before allocating, an ensemble that cannot fit in this machine's memory.
+void check_memory(const Config& config, const Model& model, std::size_t orbits) {
+  const double doubles_per_orbit = static_cast<double>(
+      model.state_names().size() + 3 * model.invariant_names().size() + 8);  // + phase in, out
+  const double need = static_cast<double>(orbits) * (8 * doubles_per_orbit + 9);
+  const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
+                      static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  if (need > have) {
+    char text[160];
+    std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB; this machine has %.3g GiB",
+                  orbits, need / (1 << 30), have / (1 << 30));
+    throw usage_error(config.where("ensemble", "orbits") + text);
+  }
+}
+
+// Advances in segments when progress is shown (the result is the same: segments are exact).
+void advance_with_progress(const Model& model, Ensemble& e, const RunPlan& plan,
+                           const Execution& x, bool show, std::ostream& log) {
+  if (!show) {
+    model.advance(e, plan, x);
+    return;
+  }
+  const auto t0 = Clock::now();
+  const long long segment = std::max(1LL, plan.total / 100);
+  for (long long n = plan.first; n < plan.last;) {
+    RunPlan part = plan;
+    part.first = n;
+    part.last = n = std::min(plan.last, n + segment);
+    model.advance(e, part, x);
+    const double t = seconds_since(t0), done = double(n - plan.first) / double(plan.last - plan.first);
+    char line[160];
+    std::snprintf(line, sizeof line, "\rqmaps: %5.1f%%  %.3g particle-steps/s  %.1f s elapsed  ETA %.1f s ",
+                  100 * done, double(e.orbits) * double(n - plan.first) / t, t, t / done - t);
+    log << line << std::flush;
+  }
+  log << '\n';
 }
 
 }  // namespace
@@ -30,12 +81,13 @@ int run_command(const RunOptions& options, std::ostream& log) {
   for (const auto& s : options.sets) config.set(s);
   if (!options.out.empty()) config.set("output.file=" + options.out);
 
-  const auto model = make_model(config.string("map", "name"), map_params(config));
+  const auto model = map_of(config);
   const std::string kind = config.string_or("ensemble", "kind", "box");
   if (kind != "box")
     throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + kind +
                       "' (known: box)");
   const Box box = Box::from_config(config);
+  check_memory(config, *model, box.orbits);
   const Start start = parse_start(config.string_or("ensemble", "start", "taylor"));
 
   RunPlan plan;
@@ -59,13 +111,13 @@ int run_command(const RunOptions& options, std::ostream& log) {
   config.reject_unknown();
 
   h5::AtomicFile output(path);
-  auto file = h5::File::create(output.temporary());  // fails now, not after the run
+  auto file = output.create_hdf5();  // fails now, not after the run
 
   const auto initial = box.points();
   Ensemble ensemble = model->start(initial, start, plan.escape_bound);
-  const auto t0 = std::chrono::steady_clock::now();
-  model->advance(ensemble, plan, x);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto t0 = Clock::now();
+  advance_with_progress(*model, ensemble, plan, x, !options.quiet && isatty(STDERR_FILENO), log);
+  const double seconds = seconds_since(t0);
 
   RunRecord record{*model, ensemble, initial, plan, x, kind, box.seed, start,
                    config.text(), config.resolved(), options.command_line, started, utc_now()};

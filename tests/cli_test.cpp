@@ -126,6 +126,26 @@ TEST_F(Cli, UnwritableOutputIsAnIoError) {
                   {"cannot create output file", "/nonexistent-dir/x.h5"});
 }
 
+TEST_F(Cli, OutputPathThatIsADirectoryIsRefusedBeforeTheRun) {
+  fs::create_directory(dir / "sub");
+  const Result r = run_config(config, {"--out", "sub"});
+  EXPECT_EQ(r.status, 3);
+  EXPECT_TRUE(Contains(r.err, "output path 'sub' is a directory"));
+  EXPECT_FALSE(Contains(r.err, "particle-steps/s")) << "it must fail before running";
+}
+
+TEST_F(Cli, MapErrorsNameTheConfigSectionAndNumbersExactly) {
+  const Result r = run_config(config, {"--set", "map.h=-1e-9"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(Contains(r.err, "cfg.toml:" + std::to_string(line_of(config, "[map]")) + ": [map]"));
+  EXPECT_TRUE(Contains(r.err, "(got -1e-09)"));
+}
+
+TEST_F(Cli, EnsembleLargerThanMemoryIsAUsageErrorNotACrash) {
+  expect_rejected(run_config(config, {"--set", "ensemble.orbits=10000000000000"}), 2,
+                  {"10000000000000 orbits need about", "GiB; this machine has"});
+}
+
 TEST_F(Cli, FailedRunLeavesExistingOutputIdentical) {
   write_text(output, "an earlier run");
   const Result r = run_config(config, {"--set", "map.h=0"});
