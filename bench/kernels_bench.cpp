@@ -40,13 +40,16 @@ const bool registered = [] {
   for (const char* map : {"suris"}) {
     auto* scalar = benchmark::RegisterBenchmark((std::string(map) + "/scalar").c_str(),
                                                 step_ensemble, map, Isa::scalar);
-    scalar->Args({1 << 18, 1})->Unit(benchmark::kMillisecond)->UseRealTime();
+    scalar->ArgNames({"orbits", "threads"})->Args({1 << 18, 1});
+    scalar->Unit(benchmark::kMillisecond)->UseRealTime();
     for (Isa isa : runnable_isas()) {
       auto* b = benchmark::RegisterBenchmark(
           (std::string(map) + "/" + std::string(isa_name(isa))).c_str(), step_ensemble, map, isa);
       b->ArgNames({"orbits", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+      // The exactly rounded per-lane FMA of sse2 is slow: its large case would take minutes.
       for (long orbits : {1L << 18, 1L << 22})
-        for (long threads : {1, 2}) b->Args({orbits, threads});
+        for (long threads : {1, 2})
+          if (isa != Isa::sse2 || orbits == 1L << 18) b->Args({orbits, threads});
     }
   }
   return true;

@@ -1,0 +1,64 @@
+// The README never lies: every command of its sh blocks runs as written (from a scratch folder,
+// with build/ and ensembles/ pointing into this tree) and exits 0. The set-up prefix is what
+// built this test; the test and benchmark commands are left to CI and to bench/.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "run_process.hpp"
+
+namespace qmaps::testing {
+namespace {
+
+std::vector<std::string> readme_commands() {
+  std::ifstream in(std::string(QMAPS_SOURCE_DIR) + "/README.md");
+  std::vector<std::string> out;
+  bool in_sh = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("```", 0) == 0) {
+      in_sh = !in_sh && line == "```sh";
+      continue;
+    }
+    if (in_sh && !line.empty()) out.push_back(line);
+  }
+  return out;
+}
+
+std::string replace_all(const std::string& text, const std::string& from, const std::string& to) {
+  std::string out;
+  std::size_t done = 0;
+  for (auto at = text.find(from); at != std::string::npos; at = text.find(from, done)) {
+    out.append(text, done, at - done).append(to);
+    done = at + from.size();
+  }
+  return out.append(text, done);
+}
+
+TEST(Readme, EveryExampleCommandRunsAsWritten) {
+  const auto commands = readme_commands();
+  ASSERT_GE(commands.size(), 5u) << "the README's sh blocks were not found";
+  const std::string setup = "bash tools/setup && ";
+  EXPECT_EQ(commands[0].rfind(setup + "build/qmaps run ", 0), 0u) << commands[0];
+  EXPECT_EQ(commands[1], setup + "ctest --test-dir build --output-on-failure -j2");
+  int ran = 0;
+  for (std::string command : commands) {
+    if (command.rfind(setup, 0) == 0) command = command.substr(setup.size());
+    if (command.rfind("ctest ", 0) == 0 || command.rfind("build/bench/", 0) == 0) continue;
+    ASSERT_EQ(command.rfind("build/qmaps ", 0), 0u) << "unexpected README command: " << command;
+    TempDir dir;
+    const std::string shell =
+        "cd '" + dir.path().string() + "' && " +
+        replace_all(replace_all(command, "build/qmaps ", std::string(QMAPS_BINARY) + " "),
+                    " ensembles/", " " + std::string(QMAPS_SOURCE_DIR) + "/ensembles/") +
+        " > out.txt 2> err.txt";
+    const int status = std::system(shell.c_str());
+    EXPECT_EQ(status, 0) << command << "\n" << read_text(dir / "err.txt");
+    ++ran;
+  }
+  EXPECT_GE(ran, 4);
+}
+
+}  // namespace
+}  // namespace qmaps::testing
