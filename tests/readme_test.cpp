@@ -48,11 +48,12 @@ TEST(Readme, EveryExampleCommandRunsAsWritten) {
     if (command.rfind("ctest ", 0) == 0 || command.rfind("build/bench/", 0) == 0) continue;
     ASSERT_EQ(command.rfind("build/qmaps ", 0), 0u) << "unexpected README command: " << command;
     TempDir dir;
-    const std::string shell =
-        "cd '" + dir.path().string() + "' && " +
-        replace_all(replace_all(command, "build/qmaps ", std::string(QMAPS_BINARY) + " "),
-                    " ensembles/", " " + std::string(QMAPS_SOURCE_DIR) + "/ensembles/") +
-        " > out.txt 2> err.txt";
+    const std::string binary = std::string(QMAPS_BINARY) + " ";
+    const std::string presets = std::string(" ") + QMAPS_SOURCE_DIR + "/ensembles/";
+    std::string shell = "cd '";
+    shell.append(dir.path().string()).append("' && ");
+    shell.append(replace_all(replace_all(command, "build/qmaps ", binary), " ensembles/", presets));
+    shell.append(" > out.txt 2> err.txt");
     const int status = std::system(shell.c_str());
     EXPECT_EQ(status, 0) << command << "\n" << read_text(dir / "err.txt");
     ++ran;
