@@ -192,20 +192,12 @@ std::int64_t Group::attr_int64(const std::string& name) const {
 std::vector<std::string> Group::attr_names() const {
   std::vector<std::string> out;
   H5Aiterate2(
-      id(), H5_INDEX_CRT_ORDER, H5_ITER_INC, nullptr,
+      id(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
       [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
         static_cast<std::vector<std::string>*>(data)->emplace_back(name);
         return 0;
       },
       &out);
-  if (out.empty())
-    H5Aiterate2(
-        id(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
-        [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
-          static_cast<std::vector<std::string>*>(data)->emplace_back(name);
-          return 0;
-        },
-        &out);
   return out;
 }
 

@@ -1,4 +1,6 @@
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <ostream>
 #include <sstream>
 
@@ -9,6 +11,17 @@
 namespace qmaps {
 namespace {
 
+// The number that is the whole of `text`, if it is one.
+std::optional<double> number_in(const std::string& text) {
+  std::size_t used = 0;
+  try {
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
 ParamValues parse_params(const std::vector<std::string>& sets) {
   ParamValues params;
   for (const auto& s : sets) {
@@ -16,16 +29,9 @@ ParamValues parse_params(const std::vector<std::string>& sets) {
     if (eq == std::string::npos || eq == 0)
       throw usage_error("--set expects name=value, got '" + s + "'");
     const std::string name = s.substr(0, eq), text = s.substr(eq + 1);
-    std::size_t used = 0;
-    double value = 0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != text.size())
-      throw usage_error("--set " + name + ": '" + text + "' is not a number");
-    params[name] = value;
+    const auto value = number_in(text);
+    if (!value) throw usage_error("--set " + name + ": '" + text + "' is not a number");
+    params[name] = *value;
   }
   return params;
 }
@@ -36,16 +42,10 @@ Phase parse_ic(const std::string& text) {
   std::string item;
   int k = 0;
   while (std::getline(in, item, ',')) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (k == 4 || used == 0 || used != item.size() || !std::isfinite(v))
+    const auto v = number_in(item);
+    if (k == 4 || !v || !std::isfinite(*v))
       throw usage_error("--ic expects four finite numbers q1,q2,p1,p2, got '" + text + "'");
-    x[k++] = v;
+    x[k++] = *v;
   }
   if (k != 4) throw usage_error("--ic expects four numbers q1,q2,p1,p2, got '" + text + "'");
   return {x[0], x[1], x[2], x[3]};

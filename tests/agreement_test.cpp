@@ -81,18 +81,29 @@ std::string first_difference(const Ensemble& ref, const Ensemble& e, std::size_t
   return {};
 }
 
-class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size_t>> {};
+class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size_t>> {
+ protected:
+  const Scenario scenario = std::get<0>(GetParam());
+  const std::size_t orbits = std::get<1>(GetParam());
+  const std::unique_ptr<Model> model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
+  const RunPlan plan = [this] {
+    RunPlan p;
+    p.total = p.last = scenario.steps;
+    p.stride = 7;
+    p.escape_bound = scenario.escape_bound;
+    return p;
+  }();
+
+  Ensemble fresh() const { return start(*model, scenario, orbits, plan.escape_bound); }
+  Ensemble reference() const {
+    Ensemble e = fresh();
+    model->advance(e, plan, Execution{Isa::scalar, 1, 1});
+    return e;
+  }
+};
 
 TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference) {
-  const auto [scenario, orbits] = GetParam();
-  const auto model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
-  RunPlan plan;
-  plan.total = plan.last = scenario.steps;
-  plan.stride = 7;
-  plan.escape_bound = scenario.escape_bound;
-
-  Ensemble ref = start(*model, scenario, orbits, plan.escape_bound);
-  model->advance(ref, plan, Execution{Isa::scalar, 1, 1});
+  const Ensemble ref = reference();
   if (scenario.alpha < 0 && orbits > 100) {
     const std::size_t escaped = ref.escaped();
     EXPECT_GT(escaped, orbits / 10) << "the escaping scenario must exercise escapes";
@@ -106,7 +117,7 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
     ran += std::string(isa_name(isa)) + " ";
     for (int threads : {1, 2})
       for (int chains : {1, 2, 4, 8}) {
-        Ensemble e = start(*model, scenario, orbits, plan.escape_bound);
+        Ensemble e = fresh();
         model->advance(e, plan, Execution{isa, threads, chains});
         EXPECT_EQ(first_difference(ref, e, isa_lanes(isa)), "")
             << "ISA " << isa_name(isa) << ", " << threads << " threads, " << chains << " chains";
@@ -116,17 +127,10 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
 }
 
 TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun) {
-  const auto [scenario, orbits] = GetParam();
-  const auto model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
-  RunPlan plan;
-  plan.total = plan.last = scenario.steps;
-  plan.stride = 7;
-  plan.escape_bound = scenario.escape_bound;
-  Ensemble whole = start(*model, scenario, orbits, plan.escape_bound);
-  model->advance(whole, plan, Execution{Isa::scalar, 1, 1});
+  const Ensemble whole = reference();
 
   const auto isas = runnable_isas();
-  Ensemble cut = start(*model, scenario, orbits, plan.escape_bound);
+  Ensemble cut = fresh();
   const long long n = scenario.steps;
   std::set<long long> cuts = {0, std::min(1LL, n), n / 3, n / 3 + 1, n * 5 / 6, n};
   const std::vector<long long> bounds(cuts.begin(), cuts.end());
