@@ -4,7 +4,8 @@
 // per-step extra is one addition: acc += |newest q|², a conservative escape test. When a chunk ends
 // with acc beyond the bound or non-finite in an alive lane, the chunk is replayed from its start
 // step by step, freezing each lane exactly where the reference path stops it. So every lane
-// computes exactly what advance_reference computes for its orbit.
+// computes exactly what advance_reference computes for its orbit. A map whose step solves an
+// equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
 //
 // Included only by the per-ISA translation units (core/instantiate.cpp.in).
 #include <algorithm>
@@ -47,9 +48,12 @@ struct Lanes {
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = ops::select(m, a[k], b[k]);
     return s;
   }
-  // Records the escape at step n of the lanes in `fresh`, whose escaped state is `t`.
-  static void record(Ensemble& e, std::size_t orbit, long long n, Mask fresh, const State& t) {
+  // Records the escape at step n of the lanes in `fresh`, whose escaped state is `t` and whose
+  // solver fault codes are `fault`.
+  static void record(Ensemble& e, std::size_t orbit, long long n, Mask fresh, const State& t,
+                     V fault) {
     const auto lanes = ops::lanes_of(fresh);
+    const auto faults = ops::lanes_of(fault);
     std::array<std::array<double, W>, std::tuple_size_v<State>> values;
     for (std::size_t k = 0; k < t.size(); ++k) values[k] = ops::lanes_of(t[k]);
     for (std::size_t l = 0; l < W; ++l) {
@@ -57,7 +61,8 @@ struct Lanes {
       std::array<double, std::tuple_size_v<State>> lane;
       for (std::size_t k = 0; k < t.size(); ++k) lane[k] = values[k][l];
       e.escape_step[orbit + l] = n;
-      e.escape_reason[orbit + l] = static_cast<std::uint8_t>(classify_escape(lane));
+      e.escape_reason[orbit + l] = static_cast<std::uint8_t>(
+          faults[l] != 0 ? faults[l] : static_cast<double>(classify_escape(lane)));
     }
   }
 };
@@ -88,20 +93,24 @@ void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
     if (plan.track_invariants) next = std::min(next, (n / plan.stride + 1) * plan.stride);
 
     State start[K];
-    V acc[K];
+    V acc[K], faults[K];
     for (int k = 0; k < K; ++k) {
       start[k] = s[k];
-      acc[k] = V(0.0);
+      acc[k] = faults[k] = V(0.0);
     }
     for (long long j = n; j < next; ++j)
       for (int k = 0; k < K; ++k) {
         acc[k] = acc[k] + Map::escape_measure(s[k]);
-        Map::step(c, s[k]);
+        if constexpr (reports_faults<Map>)
+          faults[k] = faults[k] + Map::step(c, s[k]);
+        else
+          Map::step(c, s[k]);
       }
     bool suspect = false;
     for (int k = 0; k < K; ++k) {
       acc[k] = acc[k] + Map::escape_measure(s[k]);
-      suspect = suspect || ops::any(ops::negate(acc[k] <= bound2) & alive[k]);
+      const Mask bad = ops::negate(acc[k] <= bound2) | (faults[k] != V(0.0));
+      suspect = suspect || ops::any(bad & alive[k]);
     }
 
     if (suspect) {  // replay the chunk exactly, step by step
@@ -109,11 +118,11 @@ void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
       for (long long j = n + 1; j <= next; ++j)
         for (int k = 0; k < K; ++k) {
           State t = s[k];
-          Map::step(c, t);
-          const Mask ok = Map::escape_measure(t) <= bound2;
+          const V fault = step_reporting_faults<Map>(c, t);
+          const Mask ok = (Map::escape_measure(t) <= bound2) & (fault == V(0.0));
           const Mask fresh = alive[k] & ops::negate(ok);
           if (ops::any(fresh)) {
-            L::record(e, first + k * W, j, fresh, t);
+            L::record(e, first + k * W, j, fresh, t, fault);
             any_dead = true;
           }
           alive[k] = alive[k] & ok;

@@ -11,6 +11,8 @@ std::string_view escape_reason_name(EscapeReason reason) {
     case EscapeReason::none: return "none";
     case EscapeReason::non_finite: return "non-finite";
     case EscapeReason::beyond_bound: return "beyond bound";
+    case EscapeReason::no_convergence: return "solver did not converge";
+    case EscapeReason::zero_derivative: return "solver derivative vanished";
   }
   return "?";
 }

@@ -16,6 +16,8 @@ enum class EscapeReason : std::uint8_t {
   none = 0,
   non_finite = 1,    // a state component became NaN or infinite
   beyond_bound = 2,  // the configuration left the ball |q| ≤ escape_bound
+  no_convergence = 3,   // an implicit step's solver did not converge
+  zero_derivative = 4,  // an implicit step's Newton derivative vanished
 };
 std::string_view escape_reason_name(EscapeReason reason);
 // Why a state (its components, one orbit) escaped: non-finite, else beyond the bound.

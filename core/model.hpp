@@ -39,7 +39,12 @@ class Model {
 
   virtual Phase phase(const Ensemble& e, std::size_t orbit) const = 0;
   virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;
-  virtual double time(long long step) const = 0;
+  // Physical time of the orbit's current node (the same for every orbit unless
+  // time_per_orbit()).
+  virtual double time(const Ensemble& e, std::size_t orbit) const = 0;
+  virtual bool time_per_orbit() const = 0;
+  // Replaces every orbit's state by the one whose steps retrace it backward.
+  virtual void reverse(Ensemble& e) const = 0;
 };
 
 }  // namespace qmaps

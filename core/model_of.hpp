@@ -6,13 +6,14 @@
 
 #include "core/advance.hpp"
 #include "core/error.hpp"
+#include "core/map_concept.hpp"
 #include "core/reference.hpp"
 #include "core/tracking.hpp"
 #include "core/xsimd_arch.hpp"
 
 namespace qmaps {
 
-template <class Map>
+template <KernelMap Map>
 class ModelOf final : public Model {
  public:
   explicit ModelOf(const ParamValues& given)
@@ -72,7 +73,19 @@ class ModelOf final : public Model {
     Map::invariants(c_, state_of(e, orbit), values);
     return {values, values + invariant_names_.size()};
   }
-  double time(long long step) const override { return Map::time(c_, step); }
+  double time(const Ensemble& e, std::size_t orbit) const override {
+    return Map::time(c_, e.step, state_of(e, orbit));
+  }
+  bool time_per_orbit() const override {
+    if constexpr (requires { Map::time_per_orbit; }) return Map::time_per_orbit;
+    return false;
+  }
+  void reverse(Ensemble& e) const override {
+    for (std::size_t i = 0; i < e.padded; ++i) {
+      const auto s = Map::reversed(c_, state_of(e, i));
+      for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
+    }
+  }
 
  private:
   using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,

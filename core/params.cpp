@@ -28,6 +28,10 @@ std::vector<double> resolve_params(std::string_view map, std::span<const ParamSp
       throw usage_error("map '" + std::string(map) + "': parameter '" + std::string(s.name) +
                         "' is missing (" + std::string(s.meaning) + ")");
     const double v = it == given.end() ? s.default_value : it->second;
+    if (it == given.end() && s.optional && std::isnan(v)) {
+      values.push_back(v);
+      continue;
+    }
     if (!std::isfinite(v))
       throw usage_error("map '" + std::string(map) + "': parameter '" + std::string(s.name) +
                         "' must be finite");

@@ -13,15 +13,16 @@ namespace qmaps {
 struct ParamSpec {
   std::string_view name;
   std::string_view meaning;
-  double default_value = std::numeric_limits<double>::quiet_NaN();  // NaN: the user must give it
-  bool required() const { return std::isnan(default_value); }
+  double default_value = std::numeric_limits<double>::quiet_NaN();  // NaN: no default
+  bool optional = false;  // without a default: may be left out, and resolves to NaN then
+  bool required() const { return std::isnan(default_value) && !optional; }
 };
 
 // Values given by the user, by name.
 using ParamValues = std::map<std::string, double, std::less<>>;
 
-// The values in the order of `specs`: defaults filled in; an unknown, missing or non-finite
-// value is a usage error naming the map and the parameter.
+// The values in the order of `specs`: defaults filled in, NaN for optional ones left out; an
+// unknown, missing or non-finite value is a usage error naming the map and the parameter.
 std::vector<double> resolve_params(std::string_view map, std::span<const ParamSpec> specs,
                                    const ParamValues& given);
 

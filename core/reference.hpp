@@ -19,10 +19,11 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][i];
     for (long long n = plan.first + 1; n <= plan.last; ++n) {
       State next = s;
-      Map::step(c, next);
-      if (!(Map::escape_measure(next) <= bound2)) {
+      const double fault = step_reporting_faults<Map>(c, next);
+      if (fault != 0 || !(Map::escape_measure(next) <= bound2)) {
         e.escape_step[i] = n;
-        e.escape_reason[i] = static_cast<std::uint8_t>(classify_escape(next));
+        e.escape_reason[i] = static_cast<std::uint8_t>(fault != 0 ? fault : static_cast<double>(
+                                                                      classify_escape(next)));
         break;
       }
       s = next;

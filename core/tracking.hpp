@@ -1,12 +1,32 @@
 #pragma once
-// What both paths do to an orbit besides stepping it, written once for V = double and V = batch:
-// sample its invariants (max |I_n − I_0| over the alive lanes) and classify an escape.
+// What both paths do to an orbit besides the map's arithmetic, written once for V = double and
+// V = batch: step it and report a solver's fault, sample its invariants (max |I_n − I_0| over
+// the alive lanes).
 #include <cstddef>
+#include <type_traits>
+#include <utility>
 
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
 
 namespace qmaps {
+
+// Whether the map's step solves an equation and reports faults (see core/map_concept.hpp).
+template <class Map>
+inline constexpr bool reports_faults = !std::is_void_v<decltype(Map::step(
+    std::declval<const typename Map::Coeffs&>(),
+    std::declval<typename Map::template State<double>&>()))>;
+
+// One step in place; returns the lanes' fault codes (0: none; always 0 for explicit maps).
+template <class Map, class V>
+V step_reporting_faults(const typename Map::Coeffs& c, typename Map::template State<V>& s) {
+  if constexpr (reports_faults<Map>) {
+    return Map::step(c, s);
+  } else {
+    Map::step(c, s);
+    return V(0.0);
+  }
+}
 
 template <class Map, class V>
 void sample_invariants(const typename Map::Coeffs& c, const typename Map::template State<V>& s,

@@ -46,7 +46,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   for (std::size_t k = 0; k < specs.size(); ++k)
     root.attr("param." + std::string(specs[k].name), values[k]);
   root.attr("steps", static_cast<std::int64_t>(run.plan.total));
-  root.attr("time", model.time(run.plan.total));
+  if (!model.time_per_orbit()) root.attr("time", model.time(e, 0));
   root.attr("orbits", static_cast<std::int64_t>(n));
   root.attr("ensemble", run.ensemble_kind);
   root.attr("seed", static_cast<std::int64_t>(run.seed));
@@ -69,6 +69,9 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   for (std::size_t i = 0; i < n; ++i) final_points[i] = model.phase(e, i);
   const auto final_group = root.create_group("final");
   write_phase(final_group, final_points);
+  std::vector<double> times(n);
+  for (std::size_t i = 0; i < n; ++i) times[i] = model.time(e, i);
+  final_group.write("t", times);
   const auto state = final_group.create_group("state");
   state.attr("step", static_cast<std::int64_t>(e.step));
   const auto names = model.state_names();

@@ -123,12 +123,19 @@ struct Suris {
   // (q_n, p_n) with the central difference p_n = (q_{n+1} − q_{n−1})/(2h); q_{n−1} is one step of
   // the reversed state (the update is symmetric under z ↔ x).
   static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
-    State<double> back{s[2], s[3], s[0], s[1]};
+    State<double> back = reversed(c, s);
     step(c, back);
     return {s[0], s[1], (s[2] - back[2]) / (2 * c.h), (s[3] - back[3]) / (2 * c.h)};
   }
 
-  static double time(const Coeffs& c, long long n) { return static_cast<double>(n) * c.h; }
+  static double time(const Coeffs& c, long long n, const State<double>&) {
+    return static_cast<double>(n) * c.h;
+  }
+
+  // (q_{n+1}, q_n): the update is symmetric under z ↔ x.
+  static State<double> reversed(const Coeffs&, const State<double>& s) {
+    return {s[2], s[3], s[0], s[1]};
+  }
 
  private:
   template <class V>

@@ -185,7 +185,9 @@ TEST_F(Io, DatasetsHaveTheDocumentedShapesAndTypes) {
   check(initial, kPhase, "float64");
   auto final_members = kPhase;
   final_members.push_back("state");
+  final_members.push_back("t");
   EXPECT_EQ(final.members(), final_members);
+  check(final, {"t"}, "float64");
   check(final, kPhase, "float64");
   const auto state = final.open_group("state");
   EXPECT_EQ(state.members(), kState);

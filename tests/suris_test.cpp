@@ -97,7 +97,13 @@ TEST(Suris, ReversedRunReturnsToStartWithinTolerance) {
 }
 
 TEST(Suris, PhysicalTimeIsStepTimesH) {
-  EXPECT_EQ(testing::suris()->time(250), 250 * 0.1);
+  const auto model = testing::suris();
+  Ensemble e = model->start(testing::box_points(3, 0.5, 0.5), Start::taylor, 1e8);
+  RunPlan plan;
+  plan.total = plan.last = 250;
+  model->advance(e, plan, Execution{});
+  EXPECT_FALSE(model->time_per_orbit());
+  EXPECT_EQ(model->time(e, 2), 250 * 0.1);
 }
 
 }  // namespace

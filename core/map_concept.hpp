@@ -1,0 +1,51 @@
+#pragma once
+// What a map (kernels/) provides. One struct per map; every function that computes on orbits is
+// a template over the value type V (double, long double or an xsimd batch) and uses core/ops
+// only, so the scalar reference and every SIMD path compute the same bits.
+//
+//   name, summary                 its `--map` name and a one-line description
+//   params                        std::array<ParamSpec, N>: names, meanings, defaults
+//   state_names                   std::array<std::string_view, S>: the state components
+//   State<V>                      std::array<V, S>
+//   max_invariants                the most invariants it reports
+//   Coeffs coefficients(values)   validated coefficients, computed once (throws usage_error)
+//   invariant_names(c)            the invariants these parameters have
+//   step<V>(c, s)                 advances the state one step in place; a map that solves an
+//                                 equation returns a V: 0 where it succeeded, else an
+//                                 EscapeReason code per lane
+//   escape_measure<V>(s)          |newest configuration|², the runner's escape test
+//   invariants<V>(c, s, out)      writes invariant_names(c).size() values
+//   from_phase_space(c, x, start) the state that starts at phase-space point x
+//   to_phase_space(c, s)          (q, p) at the state's node n
+//   time(c, n, s)                 physical time of node n
+//   reversed(c, s)                the state whose steps retrace s backward
+#include <concepts>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/params.hpp"
+#include "core/phase.hpp"
+
+namespace qmaps {
+
+template <class M>
+concept KernelMap = requires(const typename M::Coeffs& c, typename M::template State<double> s,
+                             const Phase& x, std::span<const double> values, double* out) {
+  { M::name } -> std::convertible_to<std::string_view>;
+  { M::summary } -> std::convertible_to<std::string_view>;
+  { M::params.size() } -> std::convertible_to<std::size_t>;
+  { M::state_names.size() } -> std::convertible_to<std::size_t>;
+  { M::max_invariants } -> std::convertible_to<std::size_t>;
+  { M::coefficients(values) } -> std::same_as<typename M::Coeffs>;
+  { M::invariant_names(c) } -> std::same_as<std::vector<std::string>>;
+  M::step(c, s);
+  { M::escape_measure(s) } -> std::same_as<double>;
+  M::invariants(c, s, out);
+  { M::from_phase_space(c, x, Start::taylor) } -> std::same_as<typename M::template State<double>>;
+  { M::to_phase_space(c, s) } -> std::same_as<Phase>;
+  { M::time(c, 0LL, s) } -> std::same_as<double>;
+  { M::reversed(c, s) } -> std::same_as<typename M::template State<double>>;
+};
+
+}  // namespace qmaps
