@@ -78,13 +78,16 @@ void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
   using Mask = typename L::Mask;
   constexpr std::size_t W = L::W;
 
-  State s[K];
+  // Escaped lanes keep their frozen state aside and idle at the origin, a fixed point of every
+  // map, so that they cost no solver iterations and raise no alarms.
+  State s[K], frozen[K];
   Mask alive[K];
-  bool any_dead = false;
+  State parked;
+  parked.fill(V(0.0));
   for (int k = 0; k < K; ++k) {
-    s[k] = L::load(e, first + k * W);
+    frozen[k] = L::load(e, first + k * W);
     alive[k] = L::alive(e, first + k * W);
-    any_dead = any_dead || !ops::all(alive[k]);
+    s[k] = L::select(alive[k], frozen[k], parked);
   }
   const V bound2(plan.escape_bound2());
 
@@ -123,20 +126,18 @@ void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
           const Mask fresh = alive[k] & ops::negate(ok);
           if (ops::any(fresh)) {
             L::record(e, first + k * W, j, fresh, t, fault);
-            any_dead = true;
+            frozen[k] = L::select(fresh, s[k], frozen[k]);
           }
           alive[k] = alive[k] & ok;
-          s[k] = L::select(alive[k], t, s[k]);
+          s[k] = L::select(alive[k], t, parked);
         }
-    } else if (any_dead) {  // escaped lanes were stepped from their frozen state: refreeze them
-      for (int k = 0; k < K; ++k) s[k] = L::select(alive[k], s[k], start[k]);
     }
 
     n = next;
     if (plan.track_invariants && plan.samples_at(n))
       for (int k = 0; k < K; ++k) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);
   }
-  for (int k = 0; k < K; ++k) L::store(e, first + k * W, s[k]);
+  for (int k = 0; k < K; ++k) L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
 }
 
 template <class Map, class Arch>

@@ -18,6 +18,7 @@ enum class EscapeReason : std::uint8_t {
   beyond_bound = 2,  // the configuration left the ball |q| ≤ escape_bound
   no_convergence = 3,   // an implicit step's solver did not converge
   zero_derivative = 4,  // an implicit step's Newton derivative vanished
+  wrong_branch = 5,     // an implicit step's root is not on the physical branch
 };
 std::string_view escape_reason_name(EscapeReason reason);
 // Why a state (its components, one orbit) escaped: non-finite, else beyond the bound.

@@ -5,6 +5,10 @@
 
 #include "core/error.hpp"
 #include "core/model_of.hpp"
+#include "kernels/case2.hpp"
+#include "kernels/case2_hky.hpp"
+#include "kernels/case3.hpp"
+#include "kernels/flow.hpp"
 #include "kernels/suris.hpp"
 
 namespace qmaps {
@@ -18,7 +22,10 @@ MapEntry entry() {
           }};
 }
 
-const std::array maps = {entry<kernels::Suris>()};
+const std::array maps = {entry<kernels::Suris>(),  entry<kernels::Case2>(),
+                         entry<kernels::Case2Staggered>(), entry<kernels::Case2Hky>(),
+                         entry<kernels::Case3>(),  entry<kernels::Flow>(),
+                         entry<kernels::Leapfrog>()};
 
 }  // namespace
 

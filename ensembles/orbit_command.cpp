@@ -51,14 +51,16 @@ Phase parse_ic(const std::string& text) {
   return {x[0], x[1], x[2], x[3]};
 }
 
-void row(std::ostream& out, long long n, const Phase& x, const std::vector<double>& invariants) {
+// One CSV row: n, then t for a map whose physical time is per orbit, q, p, the invariants.
+void row(std::ostream& out, const Model& model, const Ensemble& e) {
+  std::vector<double> values;
+  if (model.time_per_orbit()) values.push_back(model.time(e, 0));
+  const Phase x = model.phase(e, 0);
+  values.insert(values.end(), {x.q1, x.q2, x.p1, x.p2});
+  for (double v : model.invariants(e, 0)) values.push_back(v);
   char buf[64];
-  out << n;
-  for (double v : {x.q1, x.q2, x.p1, x.p2}) {
-    std::snprintf(buf, sizeof buf, ",%.17g", v);
-    out << buf;
-  }
-  for (double v : invariants) {
+  out << e.step;
+  for (double v : values) {
     std::snprintf(buf, sizeof buf, ",%.17g", v);
     out << buf;
   }
@@ -76,7 +78,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   const Start start = parse_start(o.start);
 
   Ensemble e = model->start(std::span<const Phase>(&ic, 1), start, o.escape_bound);
-  out << "n,q1,q2,p1,p2";
+  out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
   for (const auto& name : model->invariant_names()) out << ',' << name;
   out << '\n';
   RunPlan plan;
@@ -90,7 +92,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
           << "); rows stop before it\n";
       return 0;
     }
-    row(out, n, model->phase(e, 0), model->invariants(e, 0));
+    row(out, *model, e);
     if (n >= o.steps) break;
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);

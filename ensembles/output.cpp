@@ -95,7 +95,11 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const auto escape = root.create_group("escape");
   escape.write("step", e.escape_step.span().first(n));
   escape.write("reason", e.escape_reason.span().first(n));
-  escape.attr("reason_codes", "0 none, 1 non-finite, 2 beyond bound");
+  std::string codes;
+  for (int k = 0; k <= static_cast<int>(EscapeReason::wrong_branch); ++k)
+    codes += (k ? ", " : "") + std::to_string(k) + " " +
+             std::string(escape_reason_name(static_cast<EscapeReason>(k)));
+  escape.attr("reason_codes", codes);
 }
 
 }  // namespace qmaps

@@ -11,6 +11,7 @@
 //   I2 = the same with 1 ↔ 2, a ↔ b                                    (A ≠ B only; erratum E3)
 //   I1 + I2 = 2h² H. I1 and I2 are evaluated in the algebraically equal, well-conditioned form
 //   I1 = (v1−u1)² + 2Ah² u1v1 + g u1²v1² + g a²(X−Y)²/(a²−b²) + 2g a XY/(a+b), X = v1u2, Y = u1v2.
+//   A = B (§1b): L = u1v2 − v1u2 = Y − X instead of I1, I2 (the discrete angular momentum).
 #include <array>
 #include <span>
 #include <string>
@@ -71,7 +72,7 @@ struct Suris {
 
   static std::vector<std::string> invariant_names(const Coeffs& c) {
     if (c.has_I12) return {"H", "I1", "I2"};
-    return {"H"};
+    return {"H", "L"};
   }
 
   template <class V>
@@ -97,8 +98,12 @@ struct Suris {
     const V w1 = u1 * v1, w2 = u2 * v2;
     out[0] = V(0.5) * norm2(p1, p2) + V(c.HA) * w1 + V(c.HB) * w2 +
              V(c.Halpha) * norm2(u1, u2) * norm2(v1, v2);
-    if (!c.has_I12) return;
-    const V d1 = v1 - u1, d2 = v2 - u2, X = v1 * u2, Y = u1 * v2, XmY = X - Y, XY = X * Y;
+    const V X = v1 * u2, Y = u1 * v2;
+    if (!c.has_I12) {
+      out[1] = Y - X;
+      return;
+    }
+    const V d1 = v1 - u1, d2 = v2 - u2, XmY = X - Y, XY = X * Y;
     const V cross = ops::square(XmY);
     out[1] = d1 * d1 + V(c.two_Ah2) * w1 + V(c.g) * (w1 * w1) + V(c.k1) * cross + V(c.kx1) * XY;
     out[2] = d2 * d2 + V(c.two_Bh2) * w2 + V(c.g) * (w2 * w2) + V(c.k2) * cross + V(c.kx2) * XY;

@@ -17,20 +17,50 @@ namespace {
 
 struct Scenario {
   const char* name;
-  double alpha, q, p, escape_bound;
+  const char* map;
+  ParamValues params;
+  double q, p, escape_bound;
+  bool escapes = false;   // the scenario must exercise escapes (and keep some orbits)
   long long steps = 400;
-  bool on_plane = false;
+  bool on_plane = false;  // state (q2_n, q2_n+1) = (+0, −0)
 };
-// Bounded orbits; orbits escaping over the barrier of an attractive quartic (α < 0); orbits in
-// the invariant plane q2 = p2 = 0.
-const Scenario bounded{"bounded", 0.9, 0.5, 0.5, 1e8};
-const Scenario escaping{"escaping", -0.4, 1.2, 1.0, 10.0};
-const Scenario plane{"plane", 0.9, 0.5, 0.5, 1e8, 1, true};  // zeros merge after one step
+
+// One line per map and regime: bounded orbits; orbits escaping over the barrier of an
+// attractive quartic (α < 0); orbits in the invariant plane q2 = p2 = 0, with the one pair of
+// zeros whose step −0·x + −(+0) tells an exact negation from 0 − x (zeros merge after one step).
+const ParamValues suris_p{{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}};
+const ParamValues case2_p{{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}};
+const ParamValues case3_p{{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}};
+const ParamValues flow_p{{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2}, {"delta", 5.4}, {"h", 0.05}};
+const Scenario scenarios[] = {
+    {"suris", "suris", suris_p, 0.5, 0.5, 1e8},
+    {"suris_escaping", "suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"h", 0.1}}, 1.2, 1.0, 10, true},
+    {"suris_plane", "suris", suris_p, 0.5, 0.5, 1e8, false, 1, true},
+    {"suris_A_eq_B", "suris", {{"A", 0.5}, {"B", 0.5}, {"alpha", 0.9}, {"h", 0.1}}, 0.5, 0.5, 1e8},
+    {"case2", "case2", case2_p, 0.5, 0.5, 1e8},
+    {"case2_escaping", "case2", {{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}}, 1.2, 1.0, 10, true},
+    {"case2_staggered", "case2-staggered", case2_p, 0.5, 0.5, 1e8},
+    {"case2_hky_gamma", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}, 0.5, 0.5, 1e8},
+    {"case2_hky_c", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"c11", 0.37}, {"c12", 0.41}, {"c21", 0.77}, {"c22", 0.19}}, 0.5, 0.5, 1e8},
+    {"case3", "case3", case3_p, 0.5, 0.5, 1e8},
+    {"case3_left", "case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}, {"t_order", 1}}, 0.5, 0.5, 1e8},
+    {"case3_escaping", "case3", {{"A", 0.7}, {"alpha", -0.4}, {"ds", 0.1}}, 1.2, 1.0, 10, true},
+    {"flow", "flow", flow_p, 0.5, 0.5, 1e8},
+    {"flow_escaping", "flow", {{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"beta", -0.4}, {"delta", 0.2}, {"h", 0.05}}, 1.2, 1.0, 10, true},
+    {"leapfrog", "leapfrog", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"beta", 0.9}, {"delta", 1.8}, {"h", 0.05}}, 0.5, 0.5, 1e8},
+};
+
+// Suris runs every ensemble size of the backbone's contract; every other map the three smaller.
+std::vector<std::tuple<Scenario, std::size_t>> cases() {
+  std::vector<std::tuple<Scenario, std::size_t>> out;
+  for (const auto& s : scenarios)
+    for (std::size_t n : {1, 7, 1001, 65537})
+      if (n < 65537 || std::string(s.map) == "suris") out.emplace_back(s, n);
+  return out;
+}
 
 void PrintTo(const Scenario& s, std::ostream* os) { *os << s.name; }
 
-// The scenario's ensemble; on the plane, the state (q2_n, q2_n+1) = (+0, −0), the one pair of
-// zeros whose step, −0·x + −(+0), tells an exact negation from 0 − x.
 Ensemble start(const Model& model, const Scenario& s, std::size_t orbits, double bound) {
   Ensemble e = model.start(testing::box_points(orbits, s.q, s.p), Start::taylor, bound);
   if (s.on_plane) {
@@ -85,7 +115,7 @@ class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size
  protected:
   const Scenario scenario = std::get<0>(GetParam());
   const std::size_t orbits = std::get<1>(GetParam());
-  const std::unique_ptr<Model> model = testing::suris(0.7, 0.3, scenario.alpha, 0.1);
+  const std::unique_ptr<Model> model = make_model(scenario.map, scenario.params);
   const RunPlan plan = [this] {
     RunPlan p;
     p.total = p.last = scenario.steps;
@@ -104,7 +134,7 @@ class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size
 
 TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference) {
   const Ensemble ref = reference();
-  if (scenario.alpha < 0 && orbits > 100) {
+  if (scenario.escapes && orbits > 100) {
     const std::size_t escaped = ref.escaped();
     EXPECT_GT(escaped, orbits / 10) << "the escaping scenario must exercise escapes";
     EXPECT_LT(escaped, orbits) << "and keep some orbits bounded";
@@ -145,10 +175,8 @@ TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Suris, Agreement,
-    ::testing::Combine(::testing::Values(bounded, escaping, plane),
-                       ::testing::Values(std::size_t{1}, std::size_t{7}, std::size_t{1001},
-                                         std::size_t{65537})),
+    Maps, Agreement,
+    ::testing::ValuesIn(cases()),
     [](const auto& info) {
       return std::string(std::get<0>(info.param).name) + "_" +
              std::to_string(std::get<1>(info.param));

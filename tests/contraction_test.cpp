@@ -8,6 +8,10 @@
 #include "core/fp_probe.hpp"
 #include "core/isa.hpp"
 #include "core/xsimd_arch.hpp"
+#include "kernels/case2.hpp"
+#include "kernels/case2_hky.hpp"
+#include "kernels/case3.hpp"
+#include "kernels/flow.hpp"
 #include "kernels/suris.hpp"
 
 namespace qmaps {
@@ -29,17 +33,27 @@ std::array<double, 2> probe(Isa isa, double a, double b, double c) {
   }
 }
 
+template <class Map>
+void expect_uncontracted(double a, double b, double c) {
+  for (Isa isa : runnable_isas()) {
+    const auto [batch, scalar] = probe<Map>(isa, a, b, c);
+    EXPECT_EQ(batch, 0.0) << "batch a*b+c contracted in the " << Map::name << " " << isa_name(isa) << " unit";
+    EXPECT_EQ(scalar, 0.0) << "scalar a*b+c contracted in the " << Map::name << " " << isa_name(isa) << " unit";
+    std::cout << "[ probed ] " << Map::name << ' ' << isa_name(isa) << '\n';
+  }
+}
+
 TEST(Contraction, KernelTranslationUnitsRoundMultiplyAndAddSeparately) {
   const double a = 1 + std::ldexp(1.0, -30), b = 1 - std::ldexp(1.0, -30), c = -1;
   ASSERT_NE(std::fma(a, b, c), 0.0) << "the probe's inputs must tell fused from unfused";
-  const auto isas = runnable_isas();
-  ASSERT_FALSE(isas.empty());
-  for (Isa isa : isas) {
-    const auto [batch, scalar] = probe<kernels::Suris>(isa, a, b, c);
-    EXPECT_EQ(batch, 0.0) << "batch a*b+c was contracted in the suris " << isa_name(isa) << " unit";
-    EXPECT_EQ(scalar, 0.0) << "scalar a*b+c was contracted in the suris " << isa_name(isa) << " unit";
-    std::cout << "[ probed ] suris " << isa_name(isa) << '\n';
-  }
+  ASSERT_FALSE(runnable_isas().empty());
+  expect_uncontracted<kernels::Suris>(a, b, c);
+  expect_uncontracted<kernels::Case2>(a, b, c);
+  expect_uncontracted<kernels::Case2Staggered>(a, b, c);
+  expect_uncontracted<kernels::Case2Hky>(a, b, c);
+  expect_uncontracted<kernels::Case3>(a, b, c);
+  expect_uncontracted<kernels::Flow>(a, b, c);
+  expect_uncontracted<kernels::Leapfrog>(a, b, c);
 }
 
 }  // namespace

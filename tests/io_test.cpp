@@ -204,7 +204,8 @@ TEST_F(Io, DatasetsHaveTheDocumentedShapesAndTypes) {
   EXPECT_EQ(escape.members(), (std::vector<std::string>{"reason", "step"}));
   check(escape, {"step"}, "int64");
   check(escape, {"reason"}, "uint8");
-  EXPECT_EQ(escape.attr_string("reason_codes"), "0 none, 1 non-finite, 2 beyond bound");
+  EXPECT_EQ(escape.attr_string("reason_codes"),
+            "0 none, 1 non-finite, 2 beyond bound, 3 solver did not converge, 4 solver derivative vanished, 5 solver root off the physical branch");
 }
 
 TEST_F(Io, InitialPointsLieInTheBox) {

@@ -50,9 +50,9 @@ TEST(Suris, UnknownMapIsUsageErrorListingKnownMaps) {
   }
 }
 
-TEST(Suris, I1AndI2ExistOnlyWhenAAndBDiffer) {
+TEST(Suris, I1AndI2WhenAAndBDifferElseAngularMomentumL) {
   EXPECT_EQ(testing::suris(0.7, 0.3)->invariant_names(), (std::vector<std::string>{"H", "I1", "I2"}));
-  EXPECT_EQ(testing::suris(0.5, 0.5)->invariant_names(), (std::vector<std::string>{"H"}));
+  EXPECT_EQ(testing::suris(0.5, 0.5)->invariant_names(), (std::vector<std::string>{"H", "L"}));
 }
 
 TEST(Suris, StartRulesAreExactlyThoseOfMapsMd) {

@@ -1,0 +1,223 @@
+#pragma once
+// The continuous flow of H = ½|p|² + A q1² + B q2² + α q1⁴ + β q2⁴ + δ q1²q2² (MAPS.md §0),
+// integrated by explicit symplectic compositions of Störmer–Verlet; the state is (q1, q2, p1, p2)
+// at t = nh.
+//
+//   F1 = −2q1 (A + 2α q1² + δ q2²),   F2 = −2q2 (B + 2β q2² + δ q1²)          (q'' = F)
+//   S(τ) = K(τ/2) D(τ) K(τ/2),   K(τ): p += τ F(q),   D(τ): q += τ p           (kick-drift-kick)
+//   one step = S(γ_1 h) ⋯ S(γ_s h), adjacent half-kicks merged:
+//     K(γ_1 h/2) D(γ_1 h) K((γ_1+γ_2) h/2) D(γ_2 h) ⋯ D(γ_s h) K(γ_s h/2)
+//   s drifts and s + 1 kicks, so s + 1 force evaluations per step (the state carries no force, so
+//   the closing kick's force at q_{n+1} is evaluated again by the next step's opening kick):
+//
+//   order  s   γ_1 … γ_s                                            forces per step
+//     2    1   1                                  (leapfrog)        2
+//     4    3   w1 w0 w1, w1 = 1/(2 − 2^{1/3})     (Yoshida)         4
+//     6    7   w3 … w1 w0 w1 … w3                 (Yoshida 1990 A)  8
+//     8   15   w7 … w1 w0 w1 … w7                 (Yoshida 1990 A)  16
+//   with w0 = 1 − 2(w1 + … + wm). Solution A of order 8 has a large error constant: in the tests
+//   its error at t = 1 exceeds order 6's down to h ≈ 1/200 (9.2e-12 against 1.5e-12 at h = 1/64).
+//
+// Invariants: H, and the second integral of the case the parameters satisfy (MAPS.md §0, with
+// erratum E1: 2α in case III), L = q1p2 − q2p1:
+//   I   β = α, δ = 2α            I_case1 = L² + (B−A)/α · {p1² + 2q1²[A + α(q1²+q2²)]}
+//   II  β = α, δ = 6α, B = A     I_case2 = p1p2 + 2q1q2[A + 2α(q1²+q2²)]
+//   III β = 16α, δ = 12α, B = 4A I_case3 = L p1 + 2q1²q2[A + 2α(q1²+2q2²)]
+//   IV  β = 8α, δ = 6α, B = 4A   I_case4 = 4αq1²(q1p2 − 2q2p1)² + {p1² + 2q1²[A + α(q1²+2q2²)]}²
+// A relation x = y holds when |x − y| ≤ 1e-12 max(|x|, |y|); the integral is then that of the exact
+// relation, written in A and α (and B for case I). For α ≠ 0 the cases exclude one another; only
+// the linear set α = β = δ = 0 satisfies several, and it is case I (the first that holds) with
+// I_case1 = p1²/2 + A q1² (an integral for every A, B; for A ≠ B the limit α → 0 of
+// α I_case1/(2(B − A))), since (B−A)/α is undefined there.
+// A = B needs no rule: the (B−A)/α term vanishes and I_case1 = L². No case holds: H alone.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/ops.hpp"
+#include "core/params.hpp"
+#include "core/phase.hpp"
+
+namespace qmaps::kernels {
+
+namespace detail {
+
+// w1 … wm of the compositions of order 4, 6 and 8 (Yoshida, Phys. Lett. A 150, 262 (1990)).
+inline constexpr std::array<double, 1> yoshida4 = {1.3512071919596576340};
+inline constexpr std::array<double, 3> yoshida6 = {-0.117767998417887e1, 0.235573213359357,
+                                                   0.784513610477560};
+inline constexpr std::array<double, 7> yoshida8 = {
+    -0.161582374150097e1, -0.244699182370524e1, -0.716989419708120e-2, 0.244002732616735e1,
+    0.157739928123617,    0.182020630970714e1,  0.104242620869991e1};
+
+inline constexpr std::array<ParamSpec, 6> flow_params = {{
+    {"A", "coefficient of q1^2 in the potential"},
+    {"B", "coefficient of q2^2 in the potential"},
+    {"alpha", "coefficient of q1^4"},
+    {"beta", "coefficient of q2^4"},
+    {"delta", "coefficient of q1^2 q2^2"},
+    {"h", "time step, > 0"},
+}};
+
+// Everything Flow and Leapfrog share: they differ only in the composition chosen.
+struct SplitFlow {
+  static constexpr std::array<std::string_view, 4> state_names = {"q1", "q2", "p1", "p2"};
+  template <class V>
+  using State = std::array<V, 4>;
+  static constexpr std::size_t max_invariants = 2;
+
+  struct Coeffs {
+    double A, B, alpha, beta, delta, h;
+    int order, stages;               // s
+    std::array<double, 16> kick;     // p += kick[i] F(q) before drift i; kick[s] ends the step
+    std::array<double, 15> drift;    // q += drift[i] p: γ_i h
+    double fA, fB, fa, fb, fd;       // F1 = q1(fA + fa q1² + fd q2²), F2 = q2(fB + fb q2² + fd q1²)
+    int which;                       // detected case, 0 = none
+    bool linear;                     // α = β = δ = 0: I_case1 = p1²/2 + A q1²
+    double kI;                       // (B − A)/α (case I, α ≠ 0)
+  };
+
+  static int detected_case(const Coeffs& c) { return c.which; }
+  static std::string_view case_name(const Coeffs& c) {
+    constexpr std::array<std::string_view, 5> names = {"none", "I", "II", "III", "IV"};
+    return names[static_cast<std::size_t>(c.which)];
+  }
+
+  static std::vector<std::string> invariant_names(const Coeffs& c) {
+    if (c.which == 0) return {"H"};
+    return {"H", "I_case" + std::to_string(c.which)};
+  }
+
+  template <class V>
+  static void step(const Coeffs& c, State<V>& s) {
+    V q1 = s[0], q2 = s[1], p1 = s[2], p2 = s[3];
+    for (int i = 0;; ++i) {
+      const V x1 = q1 * q1, x2 = q2 * q2, k(c.kick[static_cast<std::size_t>(i)]);
+      p1 = ops::fma(k, q1 * ops::fma(V(c.fa), x1, ops::fma(V(c.fd), x2, V(c.fA))), p1);
+      p2 = ops::fma(k, q2 * ops::fma(V(c.fb), x2, ops::fma(V(c.fd), x1, V(c.fB))), p2);
+      if (i == c.stages) break;
+      const V d(c.drift[static_cast<std::size_t>(i)]);
+      q1 = ops::fma(d, p1, q1);
+      q2 = ops::fma(d, p2, q2);
+    }
+    s = {q1, q2, p1, p2};
+  }
+
+  template <class V>  // |q|²
+  static V escape_measure(const State<V>& s) { return ops::fma(s[1], s[1], s[0] * s[0]); }
+
+  template <class V>
+  static void invariants(const Coeffs& c, const State<V>& s, V* out) {
+    const V q1 = s[0], q2 = s[1], p1 = s[2], p2 = s[3], x1 = q1 * q1, x2 = q2 * q2;
+    out[0] = V(0.5) * ops::fma(p2, p2, p1 * p1) + x1 * ops::fma(V(c.alpha), x1, V(c.A)) +
+             x2 * ops::fma(V(c.beta), x2, V(c.B)) + V(c.delta) * (x1 * x2);
+    const V L = ops::fms(q1, p2, q2 * p1), A(c.A), a(c.alpha), a2(2 * c.alpha), two(2.0);
+    const V r2 = x1 + x2, w2 = ops::fma(two, x2, x1);  // q1² + q2², q1² + 2q2²
+    if (c.which == 1 && c.linear) {
+      out[1] = ops::fma(V(0.5) * p1, p1, A * x1);
+    } else if (c.which == 1) {
+      out[1] = ops::fma(L, L, V(c.kI) * ops::fma(two * x1, ops::fma(a, r2, A), p1 * p1));
+    } else if (c.which == 2) {
+      out[1] = ops::fma(p1, p2, two * (q1 * q2) * ops::fma(a2, r2, A));
+    } else if (c.which == 3) {
+      out[1] = ops::fma(L, p1, two * (x1 * q2) * ops::fma(a2, w2, A));
+    } else if (c.which == 4) {
+      const V M = ops::fms(q1, p2, two * (q2 * p1));
+      const V K = ops::fma(two * x1, ops::fma(a, w2, A), p1 * p1);
+      out[1] = ops::fma(V(4 * c.alpha) * x1, M * M, K * K);
+    }
+  }
+
+  static State<double> from_phase_space(const Coeffs&, const Phase& x, Start) {
+    return {x.q1, x.q2, x.p1, x.p2};
+  }
+  static Phase to_phase_space(const Coeffs&, const State<double>& s) {
+    return {s[0], s[1], s[2], s[3]};
+  }
+  static double time(const Coeffs& c, long long n, const State<double>&) {
+    return static_cast<double>(n) * c.h;
+  }
+  // (q, −p): every composition here is symmetric, so its steps from (q, −p) retrace s backward.
+  static State<double> reversed(const Coeffs&, const State<double>& s) {
+    return {s[0], s[1], ops::neg(s[2]), ops::neg(s[3])};
+  }
+
+ protected:
+  // p = (A, B, alpha, beta, delta, h); order ∈ {2, 4, 6, 8}.
+  static Coeffs make(std::string_view map, std::span<const double> p, int order) {
+    Coeffs c{};
+    c.A = p[0], c.B = p[1], c.alpha = p[2], c.beta = p[3], c.delta = p[4], c.h = p[5];
+    if (!(c.h > 0))
+      throw usage_error(std::string(map) + ": h must be > 0 (got " + number_text(c.h) + ")");
+    const std::span<const double> w = order == 4 ? std::span<const double>(yoshida4)
+                                      : order == 6 ? yoshida6
+                                      : order == 8 ? yoshida8 : std::span<const double>();
+    const std::size_t m = w.size(), s = 2 * m + 1;
+    std::array<double, 17> g{};  // 0, γ_1 … γ_s, 0
+    double sum = 0;
+    for (std::size_t j = 1; j <= m; ++j) sum += (g[m + 1 - j] = g[m + 1 + j] = w[j - 1]);
+    g[m + 1] = 1 - 2 * sum;
+    c.order = order, c.stages = static_cast<int>(s);
+    for (std::size_t i = 0; i <= s; ++i) c.kick[i] = (g[i] + g[i + 1]) * c.h / 2;
+    for (std::size_t i = 0; i < s; ++i) c.drift[i] = g[i + 1] * c.h;
+    c.fA = -2 * c.A, c.fB = -2 * c.B, c.fa = -4 * c.alpha, c.fb = -4 * c.beta, c.fd = -2 * c.delta;
+
+    const auto holds = [](double x, double y) {
+      return std::fabs(x - y) <= 1e-12 * std::max(std::fabs(x), std::fabs(y));
+    };
+    const double a = c.alpha, b = c.beta, d = c.delta;
+    const std::array<bool, 4> cases = {
+        holds(b, a) && holds(d, 2 * a),
+        holds(b, a) && holds(d, 6 * a) && holds(c.B, c.A),
+        holds(b, 16 * a) && holds(d, 12 * a) && holds(c.B, 4 * c.A),
+        holds(b, 8 * a) && holds(d, 6 * a) && holds(c.B, 4 * c.A)};
+    c.which = 0;
+    for (int k = 4; k >= 1; --k)
+      if (cases[static_cast<std::size_t>(k - 1)]) c.which = k;  // the first case that holds
+    c.linear = c.which == 1 && a == 0;
+    if (c.which == 1 && !c.linear) {
+      c.kI = (c.B - c.A) / a;
+      if (!std::isfinite(c.kI))
+        throw usage_error(std::string(map) + ": (B - A)/alpha of case I overflows (alpha = " +
+                          number_text(a) + ")");
+    }
+    return c;
+  }
+};
+
+}  // namespace detail
+
+struct Flow : detail::SplitFlow {
+  static constexpr std::string_view name = "flow";
+  static constexpr std::string_view summary =
+      "the continuous flow, Yoshida composition of Stormer-Verlet of order 2, 4, 6 or 8";
+  static constexpr std::array<ParamSpec, 7> params = [] {
+    std::array<ParamSpec, 7> p{};
+    std::copy(detail::flow_params.begin(), detail::flow_params.end(), p.begin());
+    p[6] = {"order", "order of the composition: 2, 4, 6 or 8", 8};
+    return p;
+  }();
+
+  static Coeffs coefficients(std::span<const double> p) {
+    const double order = p[6];
+    if (order != 2 && order != 4 && order != 6 && order != 8)
+      throw usage_error("flow: order must be 2, 4, 6 or 8 (got " + number_text(order) + ")");
+    return make(name, p, static_cast<int>(order));
+  }
+};
+
+struct Leapfrog : detail::SplitFlow {
+  static constexpr std::string_view name = "leapfrog";
+  static constexpr std::string_view summary =
+      "the continuous flow, Stormer-Verlet (kick-drift-kick), order 2";
+  static constexpr std::array<ParamSpec, 6> params = detail::flow_params;
+
+  static Coeffs coefficients(std::span<const double> p) { return make(name, p, 2); }
+};
+
+}  // namespace qmaps::kernels
