@@ -4,17 +4,16 @@
 // at t = nh.
 //
 //   F1 = −2q1 (A + 2α q1² + δ q2²),   F2 = −2q2 (B + 2β q2² + δ q1²)          (q'' = F)
-//   S(τ) = K(τ/2) D(τ) K(τ/2),   K(τ): p += τ F(q),   D(τ): q += τ p           (kick-drift-kick)
-//   one step = S(γ_1 h) ⋯ S(γ_s h), adjacent half-kicks merged:
-//     K(γ_1 h/2) D(γ_1 h) K((γ_1+γ_2) h/2) D(γ_2 h) ⋯ D(γ_s h) K(γ_s h/2)
-//   s drifts and s + 1 kicks, so s + 1 force evaluations per step (the state carries no force, so
-//   the closing kick's force at q_{n+1} is evaluated again by the next step's opening kick):
+//   S(τ) = D(τ/2) K(τ) D(τ/2),   K(τ): p += τ F(q),   D(τ): q += τ p           (drift-kick-drift)
+//   one step = S(γ_1 h) ⋯ S(γ_s h), adjacent half-drifts merged:
+//     D(γ_1 h/2) K(γ_1 h) D((γ_1+γ_2) h/2) K(γ_2 h) ⋯ K(γ_s h) D(γ_s h/2)
+//   s kicks and s + 1 drifts, so s force evaluations per step:
 //
 //   order  s   γ_1 … γ_s                                            forces per step
-//     2    1   1                                  (leapfrog)        2
-//     4    3   w1 w0 w1, w1 = 1/(2 − 2^{1/3})     (Yoshida)         4
-//     6    7   w3 … w1 w0 w1 … w3                 (Yoshida 1990 A)  8
-//     8   15   w7 … w1 w0 w1 … w7                 (Yoshida 1990 A)  16
+//     2    1   1                                  (leapfrog)        1
+//     4    3   w1 w0 w1, w1 = 1/(2 − 2^{1/3})     (Yoshida)         3
+//     6    7   w3 … w1 w0 w1 … w3                 (Yoshida 1990 A)  7
+//     8   15   w7 … w1 w0 w1 … w7                 (Yoshida 1990 A)  15
 //   with w0 = 1 − 2(w1 + … + wm). Solution A of order 8 has a large error constant: in the tests
 //   its error at t = 1 exceeds order 6's down to h ≈ 1/200 (9.2e-12 against 1.5e-12 at h = 1/64).
 //
@@ -74,8 +73,8 @@ struct SplitFlow {
   struct Coeffs {
     double A, B, alpha, beta, delta, h;
     int order, stages;               // s
-    std::array<double, 16> kick;     // p += kick[i] F(q) before drift i; kick[s] ends the step
-    std::array<double, 15> drift;    // q += drift[i] p: γ_i h
+    std::array<double, 16> drift;    // q += drift[i] p before kick i; drift[s] ends the step
+    std::array<double, 15> kick;     // p += kick[i] F(q): γ_i h
     double fA, fB, fa, fb, fd;       // F1 = q1(fA + fa q1² + fd q2²), F2 = q2(fB + fb q2² + fd q1²)
     int which;                       // detected case, 0 = none
     bool linear;                     // α = β = δ = 0: I_case1 = p1²/2 + A q1²
@@ -97,13 +96,13 @@ struct SplitFlow {
   static void step(const Coeffs& c, State<V>& s) {
     V q1 = s[0], q2 = s[1], p1 = s[2], p2 = s[3];
     for (int i = 0;; ++i) {
-      const V x1 = q1 * q1, x2 = q2 * q2, k(c.kick[static_cast<std::size_t>(i)]);
-      p1 = ops::fma(k, q1 * ops::fma(V(c.fa), x1, ops::fma(V(c.fd), x2, V(c.fA))), p1);
-      p2 = ops::fma(k, q2 * ops::fma(V(c.fb), x2, ops::fma(V(c.fd), x1, V(c.fB))), p2);
-      if (i == c.stages) break;
       const V d(c.drift[static_cast<std::size_t>(i)]);
       q1 = ops::fma(d, p1, q1);
       q2 = ops::fma(d, p2, q2);
+      if (i == c.stages) break;
+      const V x1 = q1 * q1, x2 = q2 * q2, k(c.kick[static_cast<std::size_t>(i)]);
+      p1 = ops::fma(k, q1 * ops::fma(V(c.fa), x1, ops::fma(V(c.fd), x2, V(c.fA))), p1);
+      p2 = ops::fma(k, q2 * ops::fma(V(c.fb), x2, ops::fma(V(c.fd), x1, V(c.fB))), p2);
     }
     s = {q1, q2, p1, p2};
   }
@@ -163,8 +162,8 @@ struct SplitFlow {
     for (std::size_t j = 1; j <= m; ++j) sum += (g[m + 1 - j] = g[m + 1 + j] = w[j - 1]);
     g[m + 1] = 1 - 2 * sum;
     c.order = order, c.stages = static_cast<int>(s);
-    for (std::size_t i = 0; i <= s; ++i) c.kick[i] = (g[i] + g[i + 1]) * c.h / 2;
-    for (std::size_t i = 0; i < s; ++i) c.drift[i] = g[i + 1] * c.h;
+    for (std::size_t i = 0; i <= s; ++i) c.drift[i] = (g[i] + g[i + 1]) * c.h / 2;
+    for (std::size_t i = 0; i < s; ++i) c.kick[i] = g[i + 1] * c.h;
     c.fA = -2 * c.A, c.fB = -2 * c.B, c.fa = -4 * c.alpha, c.fb = -4 * c.beta, c.fd = -2 * c.delta;
 
     const auto holds = [](double x, double y) {
@@ -214,7 +213,7 @@ struct Flow : detail::SplitFlow {
 struct Leapfrog : detail::SplitFlow {
   static constexpr std::string_view name = "leapfrog";
   static constexpr std::string_view summary =
-      "the continuous flow, Stormer-Verlet (kick-drift-kick), order 2";
+      "the continuous flow, Stormer-Verlet (drift-kick-drift), order 2";
   static constexpr std::array<ParamSpec, 6> params = detail::flow_params;
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p, 2); }

@@ -126,15 +126,15 @@ TEST(Flow, CompositionsAreSymmetricAndConsistent) {
   for (int i = 0; i < 4; ++i) {
     const auto c = flow(generic, 0.125, 2 * (i + 1));
     const auto s = static_cast<std::size_t>(c.stages);
-    ASSERT_EQ(c.stages, stages[static_cast<std::size_t>(i)]);  // s + 1 force evaluations per step
+    ASSERT_EQ(c.stages, stages[static_cast<std::size_t>(i)]);  // s force evaluations per step
     double kicks = 0, drifts = 0;
     for (std::size_t j = 0; j <= s; ++j) {
-      kicks += c.kick[j];
-      EXPECT_EQ(c.kick[j], c.kick[s - j]);
+      drifts += c.drift[j];
+      EXPECT_EQ(c.drift[j], c.drift[s - j]);
     }
     for (std::size_t j = 0; j < s; ++j) {
-      drifts += c.drift[j];
-      EXPECT_EQ(c.drift[j], c.drift[s - 1 - j]);
+      kicks += c.kick[j];
+      EXPECT_EQ(c.kick[j], c.kick[s - 1 - j]);
     }
     EXPECT_NEAR(kicks, 0.125, 1e-15) << c.order;
     EXPECT_NEAR(drifts, 0.125, 1e-15) << c.order;
