@@ -69,8 +69,10 @@ struct Lanes {
 
 }  // namespace detail
 
+// flatten: the map's step is inlined into the chains' loop whatever its size, so that the K
+// chains interleave (an out-of-line step serializes them through memory).
 template <class Map, class Arch, int K>
-void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
+[[gnu::flatten]] void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
                    const RunPlan& plan) {
   using V = xsimd::batch<double, Arch>;
   using L = detail::Lanes<Map, V>;

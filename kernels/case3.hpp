@@ -7,9 +7,10 @@
 //   w = u_{k,n+1} and c = ds²:
 //     (w − 2u + v)/c = 2λu − 2Au³(w² + wv + v²) − 2αu⁵(w⁴ + w³v + w²v² + wv³ + v⁴)
 //   a quartic P(w) = 0 solved by Newton from the Störmer–Verlet predictor
-//   w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹), until |Δw| ≤ 2⁻⁴³(1 + |w|), then one more correction.
-//   A lane stops exactly where the scalar path stops. Faults are escapes: no convergence in 40
-//   iterations, P' = 0, or P'(w) ≤ 0 at the root (not the branch through 2u − v, where P' → 1).
+//   w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹): two corrections, then more until both components'
+//   |Δw| ≤ 2⁻³⁰(1 + |w|) (one division per iteration serves both). A lane stops exactly where the
+//   scalar path stops. Faults are escapes: no convergence in 40 iterations, P' = 0, or P' ≤ 0 at
+//   the root (not the branch through 2u − v, where P' → 1).
 //   Physical time: t_{n+2} = t_{n+1} + ds(r²_{n+1} + r²_{n+2})/2 (t_order = 2, trapezoid) or
 //   t_{n+1} + ds r²_{n+1} (t_order = 1, the paper's left rule).
 //   Invariants: I_k = ½((w − u)/ds)² − λuw + A u³w³ + α u⁵w⁵ on (u, w) = (u_{k,n}, u_{k,n+1});
@@ -68,9 +69,9 @@ struct Case3 {
   template <class V>
   static V step(const Coeffs& c, State<V>& s) {
     const V lambda = s[6];
-    V fault(0.0);
-    const V w1 = solve(c, s[2], s[0], lambda, fault);
-    const V w2 = solve(c, s[3], s[1], lambda, fault);
+    V w1, w2;
+    const V fault = solve(c, Quartic<V>(c, s[2], s[0], lambda), Quartic<V>(c, s[3], s[1], lambda),
+                          w1, w2);
     const V r_next = radius2(s[2], s[3]), r_new = radius2(w1, w2);
     const V dt = c.trapezoid ? V(c.half_ds) * (r_next + r_new) : V(c.ds) * r_next;
     s = {s[2], s[3], w1, w2, s[5], s[5] + dt, lambda};
@@ -138,46 +139,68 @@ struct Case3 {
   template <class V>
   static V radius2(V a, V b) { return ops::fma(b, b, a * a); }
 
-  // The root w of P near the predictor, for u = u_{k,n}, v = u_{k,n−1}; sets `fault` (if still 0)
-  // for the lanes that fail.
+  // One component's quartic P(w) = (((c4 w + c3) w + c2) w + c1) w + c0 for u = u_{k,n},
+  // v = u_{k,n−1} (the scheme times c, expanded in w), and its predictor.
   template <class V>
-  static V solve(const Coeffs& c, V u, V v, V lambda, V& fault) {
-    using Mask = ops::mask_t<V>;
-    const V u2 = u * u, u3 = u2 * u, u5 = u3 * u2;
-    const V a3 = V(c.two_Ac) * u3, a5 = V(c.two_alphac) * u5;
-    const V v2 = v * v, v3 = v2 * v, v4 = v2 * v2, three_v = V(3.0) * v, two_v2 = V(2.0) * v2;
-    const V lu = lambda * u;
-    const V r0 = v - V(2.0) * u - V(2.0 * c.c) * lu;  // P(w) = w + r0 + a3 S3(w) + a5 S5(w)
-    const V u4 = u2 * u2;
-    const V force = ops::fms(V(2.0), lu, u * u4 * (V(6.0 * c.A) + V(10.0 * c.alpha) * u4));
-    V w = ops::fma(V(c.c), force, V(2.0) * u - v);
-
-    Mask active = V(0.0) == V(0.0), last = V(0.0) != V(0.0);
-    V slope(1.0);
-    for (int it = 0; it < max_iterations && ops::any(active); ++it) {
-      const V wv = w + v;
-      const V S3 = ops::fma(w, wv, v2);
-      const V S5 = ops::fma(w, ops::fma(w, ops::fma(w, wv, v2), v3), v4);
-      const V P = ops::fma(a3, S3, ops::fma(a5, S5, w + r0));
-      const V dS3 = ops::fma(V(2.0), w, v);
-      const V dS5 = ops::fma(w, ops::fma(w, ops::fma(V(4.0), w, three_v), two_v2), v3);
-      const V dP = ops::fma(a3, dS3, ops::fma(a5, dS5, V(1.0)));
-      const Mask flat = active & (dP == V(0.0));
-      fault = ops::select(flat & (fault == V(0.0)), V(double(EscapeReason::zero_derivative)), fault);
-      active = active & ops::negate(flat);
-      slope = ops::select(active, dP, slope);
-      const V dw = P / dP, next = w - dw;
-      w = ops::select(active, next, w);
-      const Mask converged = ops::abs(dw) <= V(0x1p-43) * (V(1.0) + ops::abs(next));
-      const Mask finished = active & last;
-      last = last | (active & converged);
-      active = active & ops::negate(finished);
+  struct Quartic {
+    V c4, c3, c2, c1, c0, guess;
+    Quartic(const Coeffs& c, V u, V v, V lambda) {
+      const V u2 = u * u, u4 = u2 * u2, u3 = u2 * u;
+      const V a3 = V(c.two_Ac) * u3, a5 = V(c.two_alphac) * (u4 * u);
+      const V v2 = v * v;
+      const V r = ops::fma(V(-2.0 * c.c), lambda * u, v - V(2.0) * u);  // v − 2u − 2cλu
+      c4 = a5;
+      c3 = a5 * v;
+      c2 = ops::fma(a5, v2, a3);
+      c1 = ops::fma(a3, v, ops::fma(c3, v2, V(1.0)));
+      c0 = ops::fma(a3, v2, ops::fma(c3 * v, v2, r));
+      // Störmer–Verlet: 2u − v + c(2λu − 6Au⁵ − 10αu⁹) = −(r + 3a3u² + 5a5u⁴)
+      guess = ops::neg(ops::fma(V(3.0) * a3, u2, ops::fma(V(5.0) * a5, u4, r)));
     }
-    const V none(0.0);
-    fault = ops::select(active & (fault == none), V(double(EscapeReason::no_convergence)), fault);
-    fault = ops::select(ops::negate(slope > none) & (fault == none),
-                        V(double(EscapeReason::wrong_branch)), fault);
-    return w;
+    // P(w) and P'(w) in Estrin's form: short dependency chains, for Newton is latency-bound
+    void at(V w, V& value, V& slope) const {
+      const V w2 = w * w;
+      value = ops::fma(ops::fma(c4, w2, ops::fma(c3, w, c2)), w2, ops::fma(c1, w, c0));
+      slope = ops::fma(ops::fma(V(4.0) * c4, w, V(3.0) * c3), w2, ops::fma(V(2.0) * c2, w, c1));
+    }
+  };
+
+  // Newton on both components at once, one division per iteration: Δw1 = P1 P2' / (P1' P2'),
+  // Δw2 = P2 P1' / (P1' P2'). Two corrections, then more while either |Δw| > 2⁻³⁰(1 + |w|);
+  // convergence is quadratic with a constant |P''/2P'| = O(ds²), so the error left after a
+  // correction of 2⁻³⁰ is below round-off. Returns the fault codes.
+  template <class V>
+  static V solve(const Coeffs&, const Quartic<V>& p1, const Quartic<V>& p2, V& w1, V& w2) {
+    using Mask = ops::mask_t<V>;
+    const V none(0.0), tol(0x1p-30);
+    w1 = p1.guess;
+    w2 = p2.guess;
+    Mask active = none == none, flat = none != none;
+    V s1(1.0), s2(1.0);
+    for (int it = 0; it < max_iterations; ++it) {
+      V v1, v2;
+      p1.at(w1, v1, s1);
+      p2.at(w2, v2, s2);
+      const V both = s1 * s2;
+      flat = flat | (active & (both == none));
+      const V inv = V(1.0) / both;
+      const V dw1 = v1 * s2 * inv, dw2 = v2 * s1 * inv;
+      const V n1 = w1 - dw1, n2 = w2 - dw2;
+      if (it == 0) {
+        w1 = n1;
+        w2 = n2;
+        continue;
+      }
+      w1 = ops::select(active, n1, w1);
+      w2 = ops::select(active, n2, w2);
+      const Mask converged = (ops::abs(dw1) <= ops::fma(tol, ops::abs(n1), tol)) &
+                             (ops::abs(dw2) <= ops::fma(tol, ops::abs(n2), tol));
+      active = active & ops::negate(converged) & ops::negate(flat);
+      if (!ops::any(active)) break;
+    }
+    const V on_branch = ops::select((s1 > none) & (s2 > none), none, V(double(EscapeReason::wrong_branch)));
+    const V unfinished = ops::select(active, V(double(EscapeReason::no_convergence)), on_branch);
+    return ops::select(flat, V(double(EscapeReason::zero_derivative)), unfinished);
   }
 };
 
