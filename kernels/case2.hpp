@@ -3,7 +3,7 @@
 // u± = q1 ± q2 decouple case II into two oscillators ü = −2Au − 4αu³, each discretized as
 // (decoupled_dis) (z − 2y + x)/h² = −2Ay − 2αy²(z + x), with x = u_{n−1}, y = u_n, z = u_{n+1}:
 //
-//   a = 1 − Ah², g = 2αh²:   z = 2a y/(1 + g y²) − x          (one division per oscillator)
+//   a = 1 − Ah², g = 2αh²:   z = 2a y/(1 + g y²) − x     (one division serves both oscillators)
 //   q_{n+1} = ((z+ + z−)/2, (z+ − z−)/2)
 //
 // In q this is the corrected discrete-case2 (E6): (q1' − 2q1 + q1'')/h² = −2A q1
@@ -66,8 +66,12 @@ struct Case2 {
 
   template <class V>
   static void step(const Coeffs& c, State<V>& s) {
-    const V zp = oscillator(c, s[0] + s[1], s[2] + s[3]);
-    const V zm = oscillator(c, s[0] - s[1], s[2] - s[3]);
+    // z± = 2a y±/D± − x±, with one division for both: 1/D± = D∓ / (D+ D−)
+    const V yp = s[2] + s[3], ym = s[2] - s[3];
+    const V Dp = ops::fma(V(c.g), yp * yp, V(1.0)), Dm = ops::fma(V(c.g), ym * ym, V(1.0));
+    const V inv = V(1.0) / (Dp * Dm);
+    const V zp = ops::fms(V(c.two_a) * yp, Dm * inv, s[0] + s[1]);
+    const V zm = ops::fms(V(c.two_a) * ym, Dp * inv, s[0] - s[1]);
     s[0] = s[2];
     s[1] = s[3];
     s[2] = V(0.5) * (zp + zm);
@@ -130,11 +134,6 @@ struct Case2 {
   }
 
  private:
-  // z = 2a y/(1 + g y²) − x
-  template <class V>
-  static V oscillator(const Coeffs& c, V x, V y) {
-    return ops::fms(V(c.two_a) * y, V(1.0) / ops::fma(V(c.g), y * y, V(1.0)), x);
-  }
   // 2h²H of one oscillator from d = y − x and w = xy: d² + w(c2 + g w)
   template <class V>
   static V K(const Coeffs& c, V d, V w) {

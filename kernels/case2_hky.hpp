@@ -6,7 +6,7 @@
 //   (z − 2y + x)/h² + 2A[c11 y + c12(z + x)] + 4α[c21 zyx + c22 y²(z + x)] = 0, i.e.
 //   k3 xyz + (z + x)(k0 + k2 y²) − k1 y = 0,
 //   k0 = 1 + 2Ah²c12, k1 = 2(1 − Ah²c11), k2 = 4αh²c22, k3 = 4αh²c21;
-//   f = k0 + k2 y²,  z = (k1 y − x f)/(f + k3 xy)                 (one division per oscillator)
+//   f = k0 + k2 y²,  z = (k1 y − x f)/(f + k3 xy)          (one division serves both oscillators)
 //   q_{n+1} = ((z+ + z−)/2, (z+ − z−)/2)
 //
 // For any c's with k1 ≠ 0 (there is no integrability condition on them, E10) the oscillator keeps
@@ -103,8 +103,13 @@ struct Case2Hky {
 
   template <class V>
   static void step(const Coeffs& c, State<V>& s) {
-    const V zp = oscillator(c, s[0] + s[1], s[2] + s[3]);
-    const V zm = oscillator(c, s[0] - s[1], s[2] - s[3]);
+    // z± = N± / D±, with one division for both: N± D∓ / (D+ D−)
+    const V xp = s[0] + s[1], xm = s[0] - s[1], yp = s[2] + s[3], ym = s[2] - s[3];
+    const V fp = ops::fma(V(c.k2), yp * yp, V(c.k0)), fm = ops::fma(V(c.k2), ym * ym, V(c.k0));
+    const V Np = ops::fms(V(c.k1), yp, xp * fp), Dp = ops::fma(V(c.k3) * xp, yp, fp);
+    const V Nm = ops::fms(V(c.k1), ym, xm * fm), Dm = ops::fma(V(c.k3) * xm, ym, fm);
+    const V inv = V(1.0) / (Dp * Dm);
+    const V zp = Np * Dm * inv, zm = Nm * Dp * inv;
     s[0] = s[2];
     s[1] = s[3];
     s[2] = V(0.5) * (zp + zm);
@@ -148,12 +153,6 @@ struct Case2Hky {
  private:
   static int given(double v) { return std::isnan(v) ? 0 : 1; }
 
-  // z = (k1 y − x f)/(f + k3 xy), f = k0 + k2 y²
-  template <class V>
-  static V oscillator(const Coeffs& c, V x, V y) {
-    const V f = ops::fma(V(c.k2), y * y, V(c.k0));
-    return ops::fms(V(c.k1), y, x * f) / ops::fma(V(c.k3) * x, y, f);
-  }
   // K(x, y) with d = y − x and q4 = k1k2 + k0k3
   template <class V>
   static V K(const Coeffs& c, V q4, V x, V y, V d) {
