@@ -38,9 +38,11 @@ struct Lanes {
   static void store(Ensemble& e, std::size_t orbit, const State& s) {
     for (std::size_t k = 0; k < s.size(); ++k) ops::store(&e.state[k][orbit], s[k]);
   }
+  // The lanes that hold a real orbit that has not escaped (padding lanes count as escaped).
   static Mask alive(const Ensemble& e, std::size_t orbit) {
     alignas(64) std::array<double, W> flags;
-    for (std::size_t l = 0; l < W; ++l) flags[l] = e.escape_step[orbit + l] < 0 ? 1.0 : 0.0;
+    for (std::size_t l = 0; l < W; ++l)
+      flags[l] = orbit + l < e.orbits && e.escape_step[orbit + l] < 0 ? 1.0 : 0.0;
     return ops::load<V>(flags.data()) != V(0.0);
   }
   static State select(Mask m, const State& a, const State& b) {
@@ -73,7 +75,7 @@ struct Lanes {
 // chains interleave (an out-of-line step serializes them through memory).
 template <class Map, class Arch, int K>
 [[gnu::flatten]] void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
-                   const RunPlan& plan) {
+                                    const RunPlan& plan, Observers* observers) {
   using V = xsimd::batch<double, Arch>;
   using L = detail::Lanes<Map, V>;
   using State = typename L::State;
@@ -92,10 +94,13 @@ template <class Map, class Arch, int K>
     s[k] = L::select(alive[k], frozen[k], parked);
   }
   const V bound2(plan.escape_bound2());
+  if (observers && plan.first == 0)
+    for (int k = 0; k < K; ++k) sample_densities<Map>(c, s[k], alive[k], *observers);
+  const bool sampling = plan.track_invariants || observers;
 
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
-    if (plan.track_invariants) next = std::min(next, (n / plan.stride + 1) * plan.stride);
+    if (sampling) next = std::min(next, (n / plan.stride + 1) * plan.stride);
 
     State start[K];
     V acc[K], faults[K];
@@ -136,21 +141,24 @@ template <class Map, class Arch, int K>
     }
 
     n = next;
-    if (plan.track_invariants && plan.samples_at(n))
-      for (int k = 0; k < K; ++k) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);
+    if (sampling && plan.samples_at(n))
+      for (int k = 0; k < K; ++k) {
+        if (plan.track_invariants) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);
+        if (observers) sample_densities<Map>(c, s[k], alive[k], *observers);
+      }
   }
   for (int k = 0; k < K; ++k) L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
 }
 
 template <class Map, class Arch>
 void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
-                    std::size_t count, int chains, const RunPlan& plan) {
+                    std::size_t count, int chains, const RunPlan& plan, Observers* observers) {
   const std::size_t block = xsimd::batch<double, Arch>::size * static_cast<std::size_t>(chains);
   for (std::size_t o = first; o < first + count; o += block) switch (chains) {
-      case 1: advance_block<Map, Arch, 1>(c, e, o, plan); break;
-      case 2: advance_block<Map, Arch, 2>(c, e, o, plan); break;
-      case 4: advance_block<Map, Arch, 4>(c, e, o, plan); break;
-      case 8: advance_block<Map, Arch, 8>(c, e, o, plan); break;
+      case 1: advance_block<Map, Arch, 1>(c, e, o, plan, observers); break;
+      case 2: advance_block<Map, Arch, 2>(c, e, o, plan, observers); break;
+      case 4: advance_block<Map, Arch, 4>(c, e, o, plan, observers); break;
+      case 8: advance_block<Map, Arch, 8>(c, e, o, plan, observers); break;
     }
 }
 

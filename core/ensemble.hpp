@@ -40,7 +40,7 @@ struct Ensemble {
   std::vector<AlignedArray<double>> invariant_max_drift;  // [invariant][orbit]
   long long step = 0;                              // the step the state is at
 
-  // Copies the last orbit into the padding lanes, so that they step like a real orbit.
+  // Copies the last orbit into the padding lanes, so that every lane holds a valid state.
   void fill_padding();
   std::size_t escaped() const;
 };

@@ -16,9 +16,13 @@
 //   escape_measure<V>(s)          |newest configuration|², the runner's escape test
 //   invariants<V>(c, s, out)      writes invariant_names(c).size() values
 //   from_phase_space(c, x, start) the state that starts at phase-space point x
-//   to_phase_space(c, s)          (q, p) at the state's node n
+//   position<V>(c, s)             (q1, q2) at the state's node n
+//   phase<V>(c, s)                (q1, q2, p1, p2) at the state's node n
+//   to_phase_space(c, s)          the same for a double state, as a Phase
 //   time(c, n, s)                 physical time of node n
-//   reversed(c, s)                the state whose steps retrace s backward
+//   reversed<V>(c, s)             the state whose steps retrace s backward
+//   clock<V>(s)                   only with time_per_orbit = true: the orbit's physical time
+#include <array>
 #include <concepts>
 #include <span>
 #include <string>
@@ -43,6 +47,8 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
   { M::escape_measure(s) } -> std::same_as<double>;
   M::invariants(c, s, out);
   { M::from_phase_space(c, x, Start::taylor) } -> std::same_as<typename M::template State<double>>;
+  { M::position(c, s) } -> std::same_as<std::array<double, 2>>;
+  { M::phase(c, s) } -> std::same_as<std::array<double, 4>>;
   { M::to_phase_space(c, s) } -> std::same_as<Phase>;
   { M::time(c, 0LL, s) } -> std::same_as<double>;
   { M::reversed(c, s) } -> std::same_as<typename M::template State<double>>;

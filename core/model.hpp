@@ -10,6 +10,7 @@
 
 #include "core/ensemble.hpp"
 #include "core/isa.hpp"
+#include "core/observers.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/run_plan.hpp"
@@ -35,7 +36,9 @@ class Model {
   // The ensemble that starts at these phase-space points (orbits whose start is already beyond
   // the bound or non-finite are escaped at step 0), with its invariants' initial values.
   virtual Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const = 0;
-  virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x) const = 0;
+  // Advances from plan.first to plan.last; the samples of the orbits go into `observers`.
+  virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
+                       Observers* observers = nullptr) const = 0;
 
   virtual Phase phase(const Ensemble& e, std::size_t orbit) const = 0;
   virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;

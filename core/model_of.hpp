@@ -48,19 +48,28 @@ class ModelOf final : public Model {
     return e;
   }
 
-  void advance(Ensemble& e, const RunPlan& plan, const Execution& x) const override {
+  void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
+               Observers* observers) const override {
     if (plan.stride < 1) throw usage_error("stride must be >= 1");
     if (x.isa == Isa::scalar) {
-      advance_reference<Map>(c_, e, plan);
+      advance_reference<Map>(c_, e, plan, observers);
     } else {
       const auto run = blocks_for(x.isa);
       const std::size_t block = isa_lanes(x.isa) * static_cast<std::size_t>(x.chains);
       if (Ensemble::padding % block != 0)
         throw usage_error("chains must be 1, 2, 4 or 8 (got " + std::to_string(x.chains) + ")");
-      const long long blocks = static_cast<long long>(e.padded / block);
-#pragma omp parallel for schedule(static) num_threads(x.threads)
-      for (long long b = 0; b < blocks; ++b)
-        run(c_, e, static_cast<std::size_t>(b) * block, block, x.chains, plan);
+      // Whole blocks of real orbits; the padding lanes past the last real orbit are never sampled.
+      const long long blocks = static_cast<long long>((e.orbits + block - 1) / block);
+#pragma omp parallel num_threads(x.threads)
+      {
+        Observers partial = observers ? observers->empty_copy() : Observers{};
+        Observers* mine = observers ? &partial : nullptr;
+#pragma omp for schedule(static)
+        for (long long b = 0; b < blocks; ++b)
+          run(c_, e, static_cast<std::size_t>(b) * block, block, x.chains, plan, mine);
+#pragma omp critical(qmaps_merge_observers)
+        if (observers) observers->merge(partial);
+      }
     }
     e.step = plan.last;
   }
@@ -89,7 +98,7 @@ class ModelOf final : public Model {
 
  private:
   using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
-                          const RunPlan&);
+                          const RunPlan&, Observers*);
 
   static typename Map::template State<double> state_of(const Ensemble& e, std::size_t orbit) {
     typename Map::template State<double> s;

@@ -10,13 +10,15 @@
 namespace qmaps {
 
 template <class Map>
-void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan) {
+void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan,
+                       Observers* observers) {
   using State = typename Map::template State<double>;
   const double bound2 = plan.escape_bound2();
   for (std::size_t i = 0; i < e.orbits; ++i) {
     if (e.escape_step[i] >= 0) continue;
     State s;
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][i];
+    if (observers && plan.first == 0) sample_densities<Map>(c, s, true, *observers);
     for (long long n = plan.first + 1; n <= plan.last; ++n) {
       State next = s;
       const double fault = step_reporting_faults<Map>(c, next);
@@ -27,7 +29,10 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
         break;
       }
       s = next;
-      if (plan.track_invariants && plan.samples_at(n)) sample_invariants<Map>(c, s, e, i, true);
+      if (plan.samples_at(n)) {
+        if (plan.track_invariants) sample_invariants<Map>(c, s, e, i, true);
+        if (observers) sample_densities<Map>(c, s, true, *observers);
+      }
     }
     for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
   }

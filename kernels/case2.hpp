@@ -34,10 +34,11 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "kernels/two_step.hpp"
 
 namespace qmaps::kernels {
 
-struct Case2 {
+struct Case2 : TwoStep<Case2> {
   static constexpr std::string_view name = "case2";
   static constexpr std::string_view summary =
       "case II (beta = alpha, delta = 6 alpha, B = A), symmetric map through u = q1 +- q2";
@@ -107,21 +108,6 @@ struct Case2 {
     return s;
   }
 
-  // (q_n, p_n), p_n = (q_{n+1} − q_{n−1})/(2h); q_{n−1} is one step of the reversed state.
-  static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
-    State<double> back = reversed(c, s);
-    step(c, back);
-    return {s[0], s[1], (s[2] - back[2]) / (2 * c.h), (s[3] - back[3]) / (2 * c.h)};
-  }
-
-  static double time(const Coeffs& c, long long n, const State<double>&) {
-    return static_cast<double>(n) * c.h;
-  }
-
-  // (q_{n+1}, q_n): the update is symmetric under z ↔ x.
-  static State<double> reversed(const Coeffs&, const State<double>& s) {
-    return {s[2], s[3], s[0], s[1]};
-  }
 
  protected:
   static Coeffs make(std::string_view map, std::span<const double> p) {

@@ -38,11 +38,12 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "kernels/two_step.hpp"
 #include "kernels/case2.hpp"
 
 namespace qmaps::kernels {
 
-struct Case2Hky {
+struct Case2Hky : TwoStep<Case2Hky> {
   static constexpr std::string_view name = "case2-hky";
   static constexpr std::string_view summary =
       "case II (beta = alpha, delta = 6 alpha, B = A), HKY oscillators through u = q1 +- q2";
@@ -134,21 +135,6 @@ struct Case2Hky {
     return Case2::start_state(c.A, c.alpha, c.h, x, start);
   }
 
-  // (q_n, p_n), p_n = (q_{n+1} − q_{n−1})/(2h); q_{n−1} is one step of the reversed state.
-  static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
-    State<double> back = reversed(c, s);
-    step(c, back);
-    return {s[0], s[1], (s[2] - back[2]) / (2 * c.h), (s[3] - back[3]) / (2 * c.h)};
-  }
-
-  static double time(const Coeffs& c, long long n, const State<double>&) {
-    return static_cast<double>(n) * c.h;
-  }
-
-  // (q_{n+1}, q_n): the update is symmetric under z ↔ x.
-  static State<double> reversed(const Coeffs&, const State<double>& s) {
-    return {s[2], s[3], s[0], s[1]};
-  }
 
  private:
   static int given(double v) { return std::isnan(v) ? 0 : 1; }

@@ -78,8 +78,12 @@ struct Case3 {
     return fault;
   }
 
+  // |q_{n+1}|² = r⁴/4 with r² = |u_{n+1}|²
   template <class V>
-  static V escape_measure(const State<V>& s) { return radius2(s[2], s[3]); }
+  static V escape_measure(const State<V>& s) {
+    const V r2 = radius2(s[2], s[3]);
+    return V(0.25) * (r2 * r2);
+  }
 
   template <class V>
   static void invariants(const Coeffs& c, const State<V>& s, V* out) {
@@ -118,20 +122,37 @@ struct Case3 {
     return {u1, u2, v1, v2, 0.0, t1, lambda};
   }
 
+  // q_n = (u1u2, (u1² − u2²)/2)
+  template <class V>
+  static std::array<V, 2> position(const Coeffs&, const State<V>& s) {
+    return {s[0] * s[1], V(0.5) * (s[0] * s[0] - s[1] * s[1])};
+  }
+
+  // The orbit's physical time t_n
+  template <class V>
+  static V clock(const State<V>& s) { return s[4]; }
+
   // q_n from u_n; p_n from P_n = (u_{n+1} − u_{n−1})/(2 ds), u_{n−1} by one reversed step.
-  static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
-    State<double> back = reversed(c, s);
+  template <class V>
+  static std::array<V, 4> phase(const Coeffs& c, const State<V>& s) {
+    State<V> back = reversed(c, s);
     step(c, back);
-    const double u1 = s[0], u2 = s[1], r2 = u1 * u1 + u2 * u2;
-    const double P1 = (s[2] - back[2]) * 0.5 * c.inv_ds, P2 = (s[3] - back[3]) * 0.5 * c.inv_ds;
-    return {u1 * u2, 0.5 * (u1 * u1 - u2 * u2), (u2 * P1 + u1 * P2) / r2, (u1 * P1 - u2 * P2) / r2};
+    const V u1 = s[0], u2 = s[1], r2 = radius2(u1, u2), half(0.5), k(0.5 * c.inv_ds);
+    const V P1 = (s[2] - back[2]) * k, P2 = (s[3] - back[3]) * k;
+    return {u1 * u2, half * (u1 * u1 - u2 * u2), ops::fma(u2, P1, u1 * P2) / r2,
+            ops::fms(u1, P1, u2 * P2) / r2};
+  }
+  static Phase to_phase_space(const Coeffs& c, const State<double>& s) {
+    const auto x = phase(c, s);
+    return {x[0], x[1], x[2], x[3]};
   }
 
   static double time(const Coeffs&, long long, const State<double>& s) { return s[4]; }
 
   // (u_{n+1}, u_n): P is symmetric in w ↔ v, so the same step retraces u. Time still advances
   // (retracing t needs ds → −ds).
-  static State<double> reversed(const Coeffs&, const State<double>& s) {
+  template <class V>
+  static State<V> reversed(const Coeffs&, const State<V>& s) {
     return {s[2], s[3], s[0], s[1], s[5], s[4], s[6]};
   }
 

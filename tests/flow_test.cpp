@@ -317,7 +317,7 @@ TEST(Flow, ReversedRunReturnsToStartWithinTolerance) {
     for (double order : {2.0, 4.0, 6.0, 8.0}) back_and_forth(Flow{}, flow(v, 0.05, order));
     back_and_forth(Leapfrog{}, leapfrog(v, 0.05));
   }
-  const auto r = Flow::reversed(flow(generic, 0.1), {1, 2, 0.0, -0.0});
+  const auto r = Flow::reversed(flow(generic, 0.1), Flow::State<double>{1, 2, 0.0, -0.0});
   EXPECT_TRUE(std::signbit(r[2]));
   EXPECT_FALSE(std::signbit(r[3]));
   EXPECT_EQ(r[0], 1);

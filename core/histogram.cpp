@@ -1,0 +1,31 @@
+#include "core/histogram.hpp"
+
+#include "core/error.hpp"
+
+namespace qmaps {
+
+std::vector<double> Axis::edges() const {
+  std::vector<double> out(static_cast<std::size_t>(bins) + 1);
+  for (std::int64_t i = 0; i <= bins; ++i)
+    out[static_cast<std::size_t>(i)] =
+        i == bins ? hi : lo + (hi - lo) * (static_cast<double>(i) / static_cast<double>(bins));
+  return out;
+}
+
+Histogram::Histogram(std::string name, std::vector<Axis> axes)
+    : name_(std::move(name)), axes_(std::move(axes)) {
+  std::size_t cells = 1;
+  for (const Axis& a : axes_) cells *= static_cast<std::size_t>(a.bins);
+  counts_.assign(cells, 0);
+}
+
+void Histogram::merge(const Histogram& other) {
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+  underflow_ += other.underflow_;
+  overflow_ += other.overflow_;
+  samples_ += other.samples_;
+}
+
+Histogram Histogram::empty_copy() const { return Histogram(name_, axes_); }
+
+}  // namespace qmaps
