@@ -94,13 +94,21 @@ template <class Map, class Arch, int K>
     s[k] = L::select(alive[k], frozen[k], parked);
   }
   const V bound2(plan.escape_bound2());
-  if (observers && plan.first == 0)
-    for (int k = 0; k < K; ++k) sample_densities<Map>(c, s[k], alive[k], *observers);
+  const bool sections = observers && !observers->sections.empty();
+  NodeCoordinates<V> before[K];
+  if (observers) {
+    for (int k = 0; k < K; ++k) {
+      if (plan.first == 0) sample_densities<Map>(c, s[k], alive[k], *observers);
+      if (sections)
+        before[k] = node_coordinates<Map>(c, s[k], observers->sections_need_momentum());
+    }
+  }
   const bool sampling = plan.track_invariants || observers;
 
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
     if (sampling) next = std::min(next, (n / plan.stride + 1) * plan.stride);
+    if (sections) next = n + 1;  // sections look at every pair of consecutive iterates
 
     State start[K];
     V acc[K], faults[K];
@@ -141,6 +149,9 @@ template <class Map, class Arch, int K>
     }
 
     n = next;
+    if (sections)
+      for (int k = 0; k < K; ++k)
+        check_sections<Map>(c, s[k], alive[k], *observers, first + k * W, n, before[k]);
     if (sampling && plan.samples_at(n))
       for (int k = 0; k < K; ++k) {
         if (plan.track_invariants) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);

@@ -25,6 +25,21 @@ std::string type_name(const toml::node& n) {
 
 }  // namespace
 
+// "name" is a [section]; "name[i]" the i-th table of an array of tables [[name]].
+const toml::table* Config::section_table(std::string_view section) const {
+  const auto open = section.find('[');
+  if (open == std::string_view::npos) return table_.get_as<toml::table>(section);
+  const auto* array = table_.get_as<toml::array>(section.substr(0, open));
+  const auto index = std::stoul(std::string(section.substr(open + 1)));
+  return array && index < array->size() ? (*array)[index].as_table() : nullptr;
+}
+
+std::size_t Config::entries(std::string_view array) const {
+  used_sections_.insert(std::string(array));
+  const auto* a = table_.get_as<toml::array>(array);
+  return a ? a->size() : 0;
+}
+
 Config Config::parse(std::string_view text, std::string source) {
   Config c;
   c.text_ = std::string(text);
@@ -38,9 +53,9 @@ Config Config::parse(std::string_view text, std::string source) {
     throw usage_error(msg.str());
   }
   for (const auto& [name, value] : c.table_)
-    if (!value.is_table())
+    if (!value.is_table() && !value.is_array_of_tables())
       throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": '" +
-                        std::string(name.str()) + "' must be a [section]");
+                        std::string(name.str()) + "' must be a [section] or [[table array]]");
   return c;
 }
 
@@ -79,8 +94,8 @@ void Config::set(std::string_view assignment) {
 }
 
 const toml::node* Config::find(std::string_view section, std::string_view key) const {
-  used_sections_.insert(std::string(section));
-  const auto* s = table_.get_as<toml::table>(section);
+  used_sections_.insert(std::string(section.substr(0, section.find('['))));
+  const auto* s = section_table(section);
   if (!s) return nullptr;
   const auto* n = s->get(key);
   if (n) used_.insert(dotted(section, key));
@@ -102,7 +117,7 @@ bool Config::has(std::string_view section, std::string_view key) const {
 std::string Config::where(std::string_view section, std::string_view key) const {
   const std::string name = dotted(section, key);
   if (overridden_.count(name)) return "--set " + name;
-  const auto* s = table_.get_as<toml::table>(section);
+  const auto* s = section_table(section);
   const auto* n = s ? s->get(key) : nullptr;
   const auto line = n ? n->source().begin.line : (s ? s->source().begin.line : 0);
   return source_ + ":" + std::to_string(line) + ": [" + std::string(section) + "] " +
@@ -110,7 +125,7 @@ std::string Config::where(std::string_view section, std::string_view key) const 
 }
 
 std::string Config::where(std::string_view section) const {
-  const auto* s = table_.get_as<toml::table>(section);
+  const auto* s = section_table(section);
   return source_ + ":" + std::to_string(s ? s->source().begin.line : 0) + ": [" +
          std::string(section) + "]";
 }
@@ -170,10 +185,26 @@ std::array<double, 2> Config::range(std::string_view section, std::string_view k
   return {lo, hi};
 }
 
+std::vector<std::int64_t> Config::range_or_integer(std::string_view section,
+                                                   std::string_view key) const {
+  const auto& n = node(section, key);
+  if (n.is_integer()) return {*n.value<std::int64_t>()};
+  std::vector<std::int64_t> out;
+  if (const auto* a = n.as_array())
+    for (const auto& item : *a) {
+      if (!item.is_integer())
+        throw usage_error(where(section, key) + " must hold integers, not " + type_name(item));
+      out.push_back(*item.value<std::int64_t>());
+    }
+  else
+    throw usage_error(where(section, key) + " must be an integer or an array of integers");
+  return out;
+}
+
 std::vector<std::string> Config::keys(std::string_view section) const {
   std::vector<std::string> out;
-  used_sections_.insert(std::string(section));
-  if (const auto* s = table_.get_as<toml::table>(section))
+  used_sections_.insert(std::string(section.substr(0, section.find('['))));
+  if (const auto* s = section_table(section))
     for (const auto& [k, v] : *s) {
       out.emplace_back(k.str());
       used_.insert(dotted(section, k.str()));
@@ -183,12 +214,20 @@ std::vector<std::string> Config::keys(std::string_view section) const {
 
 void Config::reject_unknown() const {
   for (const auto& [section, value] : table_) {
-    if (!used_sections_.count(std::string(section.str())))
+    const std::string name(section.str());
+    if (!used_sections_.count(name))
       throw usage_error(source_ + ":" + std::to_string(value.source().begin.line) +
-                        ": unknown section [" + std::string(section.str()) + "]");
-    for (const auto& [key, v] : *value.as_table())
-      if (!used_.count(dotted(section.str(), key.str())))
-        throw usage_error(where(section.str(), key.str()) + ": unknown key");
+                        ": unknown section [" + name + "]");
+    const auto check = [&](const toml::table& t, const std::string& path) {
+      for (const auto& [key, v] : t)
+        if (!used_.count(dotted(path, key.str())))
+          throw usage_error(where(path, key.str()) + ": unknown key");
+    };
+    if (const auto* array = value.as_array())
+      for (std::size_t i = 0; i < array->size(); ++i)
+        check(*(*array)[i].as_table(), name + "[" + std::to_string(i) + "]");
+    else
+      check(*value.as_table(), name);
   }
 }
 

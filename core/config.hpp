@@ -2,7 +2,9 @@
 // A run's configuration: a TOML document plus `--set section.key=value` overrides. Readers take
 // keys through the accessors, which mark them used; any key left unused is unknown, and
 // reject_unknown() names it with its line. Every error names the source, the line and the key.
+// A section argument "name" is a [name] table; "name[i]" the i-th table of an array [[name]].
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <set>
 #include <string>
@@ -24,6 +26,7 @@ class Config {
   void set(std::string_view assignment);
 
   bool has(std::string_view section, std::string_view key) const;
+  std::size_t entries(std::string_view array) const;  // tables in [[array]] (0 when absent)
   double number(std::string_view section, std::string_view key) const;
   double number_or(std::string_view section, std::string_view key, double fallback) const;
   long long integer(std::string_view section, std::string_view key) const;
@@ -32,6 +35,8 @@ class Config {
   std::string string_or(std::string_view section, std::string_view key, std::string fallback) const;
   // [lo, hi] with lo ≤ hi, both finite; a single number x means [x, x].
   std::array<double, 2> range(std::string_view section, std::string_view key) const;
+  // An integer n, or an array of integers (e.g. bins = [nx, ny]).
+  std::vector<std::int64_t> range_or_integer(std::string_view section, std::string_view key) const;
   // Every key of a section (each is then marked used).
   std::vector<std::string> keys(std::string_view section) const;
 
@@ -48,6 +53,7 @@ class Config {
  private:
   const toml::node& node(std::string_view section, std::string_view key) const;
   const toml::node* find(std::string_view section, std::string_view key) const;
+  const toml::table* section_table(std::string_view section) const;
 
   toml::table table_;
   std::string text_;

@@ -30,10 +30,11 @@ void checked(herr_t status, const std::string& what, int) {
 }
 
 template <class T>
-void write_1d(hid_t parent, const std::string& where, const std::string& name, hid_t type,
-              std::span<const T> data) {
-  const hsize_t dims[1] = {data.size()};
-  Handle space(checked(H5Screate_simple(1, dims, nullptr), "dataspace"), H5Sclose);
+void write_nd(hid_t parent, const std::string& where, const std::string& name, hid_t type,
+              std::span<const T> data, std::span<const hsize_t> dims) {
+  Handle space(checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                       "dataspace"),
+               H5Sclose);
   Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT,
                                 H5P_DEFAULT),
                      "cannot create dataset " + where + "/" + name),
@@ -44,17 +45,21 @@ void write_1d(hid_t parent, const std::string& where, const std::string& name, h
 }
 
 template <class T>
+void write_1d(hid_t parent, const std::string& where, const std::string& name, hid_t type,
+              std::span<const T> data) {
+  const hsize_t dims[1] = {data.size()};
+  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims));
+}
+
+template <class T>
 std::vector<T> read_1d(hid_t parent, const std::string& where, const std::string& name,
                        hid_t type) {
   Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT),
                      "no dataset " + where + "/" + name),
              H5Dclose);
   Handle space(checked(H5Dget_space(set.id()), "dataspace of " + name), H5Sclose);
-  if (H5Sget_simple_extent_ndims(space.id()) != 1)
-    throw failure(where + "/" + name + " is not one-dimensional");
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(space.id(), &n, nullptr);
-  std::vector<T> out(n);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id());  // every element, row-major
+  std::vector<T> out(static_cast<std::size_t>(n));
   if (n > 0)
     checked(H5Dread(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
             "cannot read " + where + "/" + name, 0);
@@ -130,6 +135,20 @@ void Group::write(const std::string& name, std::span<const std::int64_t> data) c
 void Group::write(const std::string& name, std::span<const std::uint8_t> data) const {
   write_1d(id(), path_, name, H5T_NATIVE_UINT8, data);
 }
+void Group::write(const std::string& name, std::span<const std::int64_t> data,
+                  std::span<const hsize_t> dims) const {
+  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims);
+}
+
+std::vector<hsize_t> Group::shape(const std::string& name) const {
+  Handle set(checked(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), "no dataset " + path_ + "/" + name),
+             H5Dclose);
+  Handle space(checked(H5Dget_space(set.id()), "dataspace of " + name), H5Sclose);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space.id())));
+  H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
+  return dims;
+}
+
 std::vector<double> Group::read_doubles(const std::string& name) const {
   return read_1d<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
 }

@@ -41,6 +41,10 @@ class Group {
   void write(const std::string& name, std::span<const double> data) const;
   void write(const std::string& name, std::span<const std::int64_t> data) const;
   void write(const std::string& name, std::span<const std::uint8_t> data) const;
+  // A dataset of shape `dims` (row-major data).
+  void write(const std::string& name, std::span<const std::int64_t> data,
+             std::span<const hsize_t> dims) const;
+  std::vector<hsize_t> shape(const std::string& name) const;
   std::vector<double> read_doubles(const std::string& name) const;
   std::vector<std::int64_t> read_int64(const std::string& name) const;
 

@@ -71,6 +71,7 @@ class ModelOf final : public Model {
         if (observers) observers->merge(partial);
       }
     }
+    if (observers) observers->finish();
     e.step = plan.last;
   }
 

@@ -18,7 +18,12 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
     if (e.escape_step[i] >= 0) continue;
     State s;
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][i];
-    if (observers && plan.first == 0) sample_densities<Map>(c, s, true, *observers);
+    NodeCoordinates<double> before{};
+    if (observers) {
+      if (plan.first == 0) sample_densities<Map>(c, s, true, *observers);
+      if (!observers->sections.empty())
+        before = node_coordinates<Map>(c, s, observers->sections_need_momentum());
+    }
     for (long long n = plan.first + 1; n <= plan.last; ++n) {
       State next = s;
       const double fault = step_reporting_faults<Map>(c, next);
@@ -29,6 +34,7 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
         break;
       }
       s = next;
+      if (observers) check_sections<Map>(c, s, true, *observers, i, n, before);
       if (plan.samples_at(n)) {
         if (plan.track_invariants) sample_invariants<Map>(c, s, e, i, true);
         if (observers) sample_densities<Map>(c, s, true, *observers);

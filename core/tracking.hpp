@@ -44,13 +44,16 @@ void sample_invariants(const typename Map::Coeffs& c, const typename Map::templa
 }
 
 
-// Adds the coordinates of the alive lanes to every density histogram.
+// The lanes' coordinates at the state's node, [coordinate][lane]: q always, p when asked (a
+// reversed step), t when the map keeps a clock.
+template <class V>
+using NodeCoordinates = std::array<std::array<double, ops::lanes<V>>, 5>;
+
 template <class Map, class V>
-void sample_densities(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
-                      ops::mask_t<V> alive, Observers& o) {
-  constexpr std::size_t W = ops::lanes<V>;
-  std::array<std::array<double, W>, 5> x{};
-  if (o.needs_momentum()) {
+NodeCoordinates<V> node_coordinates(const typename Map::Coeffs& c,
+                                    const typename Map::template State<V>& s, bool momentum) {
+  NodeCoordinates<V> x{};
+  if (momentum) {
     const auto phase = Map::phase(c, s);
     for (std::size_t k = 0; k < 4; ++k) x[k] = ops::lanes_of(phase[k]);
   } else {
@@ -59,8 +62,17 @@ void sample_densities(const typename Map::Coeffs& c, const typename Map::templat
     x[1] = ops::lanes_of(q[1]);
   }
   if constexpr (requires { Map::clock(s); }) x[4] = ops::lanes_of(Map::clock(s));
+  return x;
+}
+
+// Adds the coordinates of the alive lanes to every density histogram.
+template <class Map, class V>
+void sample_densities(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
+                      ops::mask_t<V> alive, Observers& o) {
+  if (o.densities.empty()) return;
+  const auto x = node_coordinates<Map>(c, s, o.densities_need_momentum());
   const auto live = ops::lanes_of(alive);
-  for (std::size_t l = 0; l < W; ++l) {
+  for (std::size_t l = 0; l < live.size(); ++l) {
     if (!live[l]) continue;
     for (auto& d : o.densities) {
       double v[2];
@@ -69,6 +81,31 @@ void sample_densities(const typename Map::Coeffs& c, const typename Map::templat
       d.histogram.add(v);
     }
   }
+}
+
+// Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
+// (the state s) is recorded; `before` becomes node n + 1.
+template <class Map, class V>
+void check_sections(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
+                    ops::mask_t<V> alive, Observers& o, std::size_t first_orbit, long long step,
+                    NodeCoordinates<V>& before) {
+  if (o.sections.empty()) return;
+  const auto after = node_coordinates<Map>(c, s, o.sections_need_momentum());
+  const auto live = ops::lanes_of(alive);
+  for (std::size_t l = 0; l < live.size(); ++l) {
+    if (!live[l]) continue;
+    for (auto& section : o.sections) {
+      const auto p = static_cast<std::size_t>(section.plane);
+      if (!section.crosses(before[p][l], after[p][l])) continue;
+      double b[5], a[5];
+      for (std::size_t k = 0; k < 5; ++k) {
+        b[k] = before[k][l];
+        a[k] = after[k][l];
+      }
+      section.record(static_cast<std::int64_t>(first_orbit + l), step, b, a);
+    }
+  }
+  before = after;
 }
 
 }  // namespace qmaps

@@ -1,5 +1,6 @@
 #include "ensembles/output.hpp"
 
+#include <cmath>
 #include <ctime>
 #include <vector>
 
@@ -20,7 +21,72 @@ void write_phase(const h5::Group& g, std::span<const Phase> points) {
   put("p2", &Phase::p2);
 }
 
+// counts (shape bins, or bins × bins), edges per axis, and the attributes of a histogram.
+void write_histogram(const h5::Group& g, const Histogram& h, const std::string& counts_name) {
+  std::vector<hsize_t> dims;
+  for (const Axis& a : h.axes()) dims.push_back(static_cast<hsize_t>(a.bins));
+  g.write(counts_name, std::span<const std::int64_t>(h.counts()), dims);
+  const char* edge_names[2] = {"x_edges", "y_edges"};
+  const char* coordinate_names[2] = {"x", "y"};
+  for (std::size_t k = 0; k < h.axes().size(); ++k) {
+    g.write(edge_names[k], h.axes()[k].edges());
+    g.attr(coordinate_names[k], h.axes()[k].coordinate);
+  }
+  g.attr("underflow", h.underflow());
+  g.attr("overflow", h.overflow());
+  g.attr("samples", h.samples());
+}
+
+void write_observers(const h5::Group& root, const Observers& o, long long stride) {
+  if (!o.densities.empty()) {
+    const auto histograms = root.create_group("histograms");
+    for (const auto& d : o.densities) {
+      const auto g = histograms.create_group(d.histogram.name());
+      write_histogram(g, d.histogram, "counts");
+      g.attr("stride", static_cast<std::int64_t>(stride));
+    }
+  }
+  if (o.sections.empty()) return;
+  const auto sections = root.create_group("sections");
+  for (const auto& s : o.sections) {
+    const auto g = sections.create_group(s.name);
+    std::vector<std::int64_t> orbit, step;
+    std::vector<double> x, y;
+    for (const auto& p : s.points) {
+      orbit.push_back(p.orbit);
+      step.push_back(p.step);
+      x.push_back(p.x);
+      y.push_back(p.y);
+    }
+    g.write("orbit", orbit);
+    g.write("step", step);
+    g.write("x", x);
+    g.write("y", y);
+    write_histogram(g, s.density, "density");
+    g.attr("plane", std::string(coordinate_name(s.plane)));
+    g.attr("value", s.value);
+    g.attr("direction", std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
+    g.attr("mode", std::string(s.linear ? "linear" : "iterate"));
+    g.attr("cap", s.cap);
+    g.attr("crossings", s.density.samples());
+  }
+}
+
 }  // namespace
+
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
+  DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
+  for (std::size_t i = 0; i < e.orbits; ++i) {
+    const double drift = e.invariant_max_drift[k][i];
+    if (drift == 0) {
+      ++d.zero;
+      continue;
+    }
+    const double x = std::log10(drift / std::fabs(e.invariant_initial[k][i]));
+    d.histogram.add(&x);
+  }
+  return d;
+}
 
 std::string utc_now() {
   const std::time_t now = std::time(nullptr);
@@ -90,7 +156,25 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     g.write("initial", e.invariant_initial[k].span().first(n));
     g.write("final", finals[k]);
     g.write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
+    const DriftHistogram drift = drift_histogram(e, k);
+    const auto dg = g.create_group("drift_histogram");
+    write_histogram(dg, drift.histogram, "counts");
+    dg.attr("zero", drift.zero);
   }
+  if (run.image) {
+    Histogram image = run.image->histogram;
+    std::size_t ix = 0, iy = 0;
+    for (std::size_t k = 0; k < inv_names.size(); ++k) {
+      if (inv_names[k] == image.axes()[0].coordinate) ix = k;
+      if (inv_names[k] == image.axes()[1].coordinate) iy = k;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v[2] = {e.invariant_initial[ix][i], e.invariant_initial[iy][i]};
+      image.add(v);
+    }
+    write_histogram(invariants.create_group("image"), image, "counts");
+  }
+  if (run.observers) write_observers(root, *run.observers, run.plan.stride);
 
   const auto escape = root.create_group("escape");
   escape.write("step", e.escape_step.span().first(n));

@@ -8,7 +8,9 @@
 #include "core/ensemble.hpp"
 #include "core/h5.hpp"
 #include "core/model.hpp"
+#include "core/observers.hpp"
 #include "core/run_plan.hpp"
+#include "ensembles/observer_config.hpp"
 
 namespace qmaps {
 
@@ -25,7 +27,17 @@ struct RunRecord {
   Start start = Start::taylor;
   std::string config_text, config_resolved, command_line;
   std::string started, finished;  // ISO 8601, UTC
+  const Observers* observers = nullptr;
+  const InvariantImage* image = nullptr;
 };
+
+// The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k:
+// bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins).
+struct DriftHistogram {
+  Histogram histogram;
+  std::int64_t zero = 0;
+};
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
 
 void write_run(const h5::Group& root, const RunRecord& run);
 

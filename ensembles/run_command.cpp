@@ -52,9 +52,9 @@ void check_memory(const Config& config, const Model& model, std::size_t orbits) 
 
 // Advances in segments when progress is shown (the result is the same: segments are exact).
 void advance_with_progress(const Model& model, Ensemble& e, const RunPlan& plan,
-                           const Execution& x, bool show, std::ostream& log) {
+                           const Execution& x, Observers* observers, bool show, std::ostream& log) {
   if (!show) {
-    model.advance(e, plan, x);
+    model.advance(e, plan, x, observers);
     return;
   }
   const auto t0 = Clock::now();
@@ -63,7 +63,7 @@ void advance_with_progress(const Model& model, Ensemble& e, const RunPlan& plan,
     RunPlan part = plan;
     part.first = n;
     part.last = n = std::min(plan.last, n + segment);
-    model.advance(e, part, x);
+    model.advance(e, part, x, observers);
     const double t = seconds_since(t0), done = double(n - plan.first) / double(plan.last - plan.first);
     char line[160];
     std::snprintf(line, sizeof line, "\rqmaps: %5.1f%%  %.3g particle-steps/s  %.1f s elapsed  ETA %.1f s ",
@@ -106,6 +106,9 @@ int run_command(const RunOptions& options, std::ostream& log) {
   if (x.chains != 1 && x.chains != 2 && x.chains != 4 && x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
+  Observers observers = observers_from_config(config, *model, box.orbits);
+  const auto image = invariant_image_from_config(config, *model);
+
   const std::string path = config.string("output", "file");
   if (path.empty()) throw usage_error(config.where("output", "file") + " must not be empty");
   config.reject_unknown();
@@ -116,11 +119,13 @@ int run_command(const RunOptions& options, std::ostream& log) {
   const auto initial = box.points();
   Ensemble ensemble = model->start(initial, start, plan.escape_bound);
   const auto t0 = Clock::now();
-  advance_with_progress(*model, ensemble, plan, x, !options.quiet && isatty(STDERR_FILENO), log);
+  advance_with_progress(*model, ensemble, plan, x, observers.empty() ? nullptr : &observers,
+                        !options.quiet && isatty(STDERR_FILENO), log);
   const double seconds = seconds_since(t0);
 
   RunRecord record{*model, ensemble, initial, plan, x, kind, box.seed, start,
-                   config.text(), config.resolved(), options.command_line, started, utc_now()};
+                   config.text(), config.resolved(), options.command_line, started, utc_now(),
+                   &observers, image ? &*image : nullptr};
   write_run(file.root(), record);
   file.close();
   output.commit();
