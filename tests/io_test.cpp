@@ -197,8 +197,18 @@ TEST_F(Io, DatasetsHaveTheDocumentedShapesAndTypes) {
   EXPECT_EQ(invariants.members(), kInvariants);
   for (const auto& name : kInvariants) {
     const auto g = invariants.open_group(name);
-    EXPECT_EQ(g.members(), (std::vector<std::string>{"final", "initial", "max_abs_drift"}));
-    check(g, g.members(), "float64");
+    EXPECT_EQ(g.members(),
+              (std::vector<std::string>{"drift_histogram", "final", "initial", "max_abs_drift"}));
+    check(g, {"final", "initial", "max_abs_drift"}, "float64");
+    const auto drift = g.open_group("drift_histogram");
+    EXPECT_EQ(drift.members(), (std::vector<std::string>{"counts", "x_edges"}));
+    EXPECT_EQ(dataset_type(drift, "counts"), "int64");
+    EXPECT_EQ(drift.shape("counts"), (std::vector<hsize_t>{72}));
+    EXPECT_EQ(drift.read_int64("counts").size(), 72u);
+    std::int64_t total = drift.attr_int64("zero") + drift.attr_int64("underflow") +
+                         drift.attr_int64("overflow");
+    for (auto c : drift.read_int64("counts")) total += c;
+    EXPECT_EQ(total, 100) << "every orbit counts once";
   }
   const auto escape = root.open_group("escape");
   EXPECT_EQ(escape.members(), (std::vector<std::string>{"reason", "step"}));
