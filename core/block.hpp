@@ -93,14 +93,16 @@ template <class Map, class Arch, int K>
     alive[k] = L::alive(e, first + k * W);
     s[k] = L::select(alive[k], frozen[k], parked);
   }
+  InvariantTrack<Map, V> track[K];
+  for (int k = 0; k < K; ++k) track[k].load(e, first + k * W);
   const V bound2(plan.escape_bound2());
   const bool sections = observers && !observers->sections.empty();
-  NodeCoordinates<V> before[K];
+  std::array<V, 5> before[K];
   if (observers) {
     for (int k = 0; k < K; ++k) {
       if (plan.first == 0) sample_densities<Map>(c, s[k], alive[k], *observers);
       if (sections)
-        before[k] = node_coordinates<Map>(c, s[k], observers->sections_need_momentum());
+        before[k] = node_values<Map>(c, s[k], observers->sections_need_momentum());
     }
   }
   const bool sampling = plan.track_invariants || observers;
@@ -154,11 +156,14 @@ template <class Map, class Arch, int K>
         check_sections<Map>(c, s[k], alive[k], *observers, first + k * W, n, before[k]);
     if (sampling && plan.samples_at(n))
       for (int k = 0; k < K; ++k) {
-        if (plan.track_invariants) sample_invariants<Map>(c, s[k], e, first + k * W, alive[k]);
+        if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
         if (observers) sample_densities<Map>(c, s[k], alive[k], *observers);
       }
   }
-  for (int k = 0; k < K; ++k) L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
+  for (int k = 0; k < K; ++k) {
+    L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
+    track[k].store(e, first + k * W);
+  }
 }
 
 template <class Map, class Arch>

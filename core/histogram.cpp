@@ -13,9 +13,17 @@ std::vector<double> Axis::edges() const {
 }
 
 Histogram::Histogram(std::string name, std::vector<Axis> axes)
-    : name_(std::move(name)), axes_(std::move(axes)) {
+    : name_(std::move(name)), axes_(std::move(axes)), rank_(static_cast<int>(axes_.size())) {
+  if (rank_ < 1 || rank_ > 2) throw usage_error("histogram '" + name_ + "' needs 1 or 2 axes");
   std::size_t cells = 1;
-  for (const Axis& a : axes_) cells *= static_cast<std::size_t>(a.bins);
+  for (int k = 0; k < rank_; ++k) {
+    const Axis& a = axes_[static_cast<std::size_t>(k)];
+    lo_[k] = a.lo;
+    hi_[k] = a.hi;
+    bins_[k] = a.bins;
+    scale_[k] = static_cast<double>(a.bins) / (a.hi - a.lo);
+    cells *= static_cast<std::size_t>(a.bins);
+  }
   counts_.assign(cells, 0);
 }
 

@@ -13,16 +13,10 @@ struct Axis {
   double lo = 0, hi = 1;
   std::int64_t bins = 1;
 
-  // The bin of x: −1 below lo, `bins` at or above hi (or NaN).
-  std::int64_t bin(double x) const {
-    if (x < lo) return -1;
-    if (!(x < hi)) return bins;
-    const auto i = static_cast<std::int64_t>((x - lo) * (static_cast<double>(bins) / (hi - lo)));
-    return i < bins ? i : bins - 1;
-  }
   std::vector<double> edges() const;
 };
 
+// One or two axes.
 class Histogram {
  public:
   Histogram() = default;
@@ -31,20 +25,13 @@ class Histogram {
   // One sample: a value per axis.
   void add(const double* x) {
     ++samples_;
-    std::int64_t index = 0;
-    bool below = false, above = false;
-    for (const Axis& a : axes_) {
-      const std::int64_t i = a.bin(*x++);
-      below = below || i < 0;
-      above = above || i >= a.bins;
-      index = index * a.bins + i;
-    }
-    if (below)
+    const std::int64_t i = bin(0, x[0]), j = rank_ == 2 ? bin(1, x[1]) : 0;
+    if (i < 0 || j < 0)
       ++underflow_;
-    else if (above)
+    else if (i >= bins_[0] || j >= bins_[1])
       ++overflow_;
     else
-      ++counts_[static_cast<std::size_t>(index)];
+      ++counts_[static_cast<std::size_t>(i * bins_[1] + j)];
   }
   void merge(const Histogram& other);
   // The same histogram with every count 0 (a thread's partial).
@@ -58,8 +45,19 @@ class Histogram {
   std::int64_t samples() const { return samples_; }
 
  private:
+  // Axis k's bin of x, as Axis::bin, from the cached lo, hi and bins/(hi − lo).
+  std::int64_t bin(int k, double x) const {
+    if (x < lo_[k]) return -1;
+    if (!(x < hi_[k])) return bins_[k];
+    const auto i = static_cast<std::int64_t>((x - lo_[k]) * scale_[k]);
+    return i < bins_[k] ? i : bins_[k] - 1;
+  }
+
   std::string name_;
   std::vector<Axis> axes_;
+  int rank_ = 1;
+  double lo_[2] = {0, 0}, hi_[2] = {1, 1}, scale_[2] = {1, 1};
+  std::int64_t bins_[2] = {1, 1};
   std::vector<std::int64_t> counts_;
   std::int64_t underflow_ = 0, overflow_ = 0, samples_ = 0;
 };

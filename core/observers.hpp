@@ -47,11 +47,6 @@ struct Section {
   std::vector<SectionPoint> points;    // at most `cap` per orbit
   std::shared_ptr<std::vector<std::int64_t>> kept;  // points kept per orbit (shared by threads;
                                                     // an orbit belongs to one thread)
-  // Whether the plane is crossed from a (at node n) to b (at node n + 1) in this direction.
-  bool crosses(double a, double b) const {
-    const bool up = a < value && b >= value, down = a > value && b <= value;
-    return direction > 0 ? up : direction < 0 ? down : up || down;
-  }
   // Records a crossing of `orbit` at step n + 1, from the coordinates of nodes n and n + 1.
   void record(std::int64_t orbit, std::int64_t step, const double* before, const double* after);
 };
@@ -61,7 +56,7 @@ struct Observers {
   std::vector<Section> sections;
 
   bool empty() const { return densities.empty() && sections.empty(); }
-  bool densities_need_momentum() const;
+  bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
   bool sections_need_momentum() const;
   Observers empty_copy() const;
   void merge(const Observers& partial);

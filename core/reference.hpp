@@ -18,11 +18,13 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
     if (e.escape_step[i] >= 0) continue;
     State s;
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][i];
-    NodeCoordinates<double> before{};
+    InvariantTrack<Map, double> track;
+    track.load(e, i);
+    std::array<double, 5> before{};
     if (observers) {
       if (plan.first == 0) sample_densities<Map>(c, s, true, *observers);
       if (!observers->sections.empty())
-        before = node_coordinates<Map>(c, s, observers->sections_need_momentum());
+        before = node_values<Map>(c, s, observers->sections_need_momentum());
     }
     for (long long n = plan.first + 1; n <= plan.last; ++n) {
       State next = s;
@@ -36,11 +38,12 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
       s = next;
       if (observers) check_sections<Map>(c, s, true, *observers, i, n, before);
       if (plan.samples_at(n)) {
-        if (plan.track_invariants) sample_invariants<Map>(c, s, e, i, true);
+        if (plan.track_invariants) track.sample(c, s, true);
         if (observers) sample_densities<Map>(c, s, true, *observers);
       }
     }
     for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
+    track.store(e, i);
   }
 }
 

@@ -30,39 +30,57 @@ V step_reporting_faults(const typename Map::Coeffs& c, typename Map::template St
   }
 }
 
+// One value's (a lane's or an orbit's) invariant tracking, held in registers while its block
+// advances: the initial values and max |I_n − I_0| over the alive samples.
 template <class Map, class V>
-void sample_invariants(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
-                       Ensemble& e, std::size_t orbit, ops::mask_t<V> alive) {
-  V values[Map::max_invariants];
-  Map::invariants(c, s, values);
-  for (std::size_t k = 0; k < e.invariant_max_drift.size(); ++k) {
-    const V initial = ops::load<V>(&e.invariant_initial[k][orbit]);
-    double* drift_at = &e.invariant_max_drift[k][orbit];
-    const V drift = ops::load<V>(drift_at);
-    ops::store(drift_at, ops::select(alive, ops::max(drift, ops::abs(values[k] - initial)), drift));
+struct InvariantTrack {
+  std::size_t count = 0;
+  V initial[Map::max_invariants], drift[Map::max_invariants];
+
+  void load(const Ensemble& e, std::size_t orbit) {
+    count = e.invariant_max_drift.size();
+    for (std::size_t k = 0; k < count; ++k) {
+      initial[k] = ops::load<V>(&e.invariant_initial[k][orbit]);
+      drift[k] = ops::load<V>(&e.invariant_max_drift[k][orbit]);
+    }
   }
-}
+  void sample(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
+              ops::mask_t<V> alive) {
+    V values[Map::max_invariants];
+    Map::invariants(c, s, values);
+    for (std::size_t k = 0; k < count; ++k)
+      drift[k] = ops::select(alive, ops::max(drift[k], ops::abs(values[k] - initial[k])), drift[k]);
+  }
+  void store(Ensemble& e, std::size_t orbit) const {
+    for (std::size_t k = 0; k < count; ++k) ops::store(&e.invariant_max_drift[k][orbit], drift[k]);
+  }
+};
 
-
-// The lanes' coordinates at the state's node, [coordinate][lane]: q always, p when asked (a
-// reversed step), t when the map keeps a clock.
-template <class V>
-using NodeCoordinates = std::array<std::array<double, ops::lanes<V>>, 5>;
-
+// The coordinates at the state's node, q1 q2 p1 p2 t: q always, p when asked (a reversed step),
+// t when the map keeps a clock; 0 for the others.
 template <class Map, class V>
-NodeCoordinates<V> node_coordinates(const typename Map::Coeffs& c,
-                                    const typename Map::template State<V>& s, bool momentum) {
-  NodeCoordinates<V> x{};
+std::array<V, 5> node_values(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
+                             bool momentum) {
+  std::array<V, 5> x;
+  x.fill(V(0.0));
   if (momentum) {
     const auto phase = Map::phase(c, s);
-    for (std::size_t k = 0; k < 4; ++k) x[k] = ops::lanes_of(phase[k]);
+    for (std::size_t k = 0; k < 4; ++k) x[k] = phase[k];
   } else {
     const auto q = Map::position(c, s);
-    x[0] = ops::lanes_of(q[0]);
-    x[1] = ops::lanes_of(q[1]);
+    x[0] = q[0];
+    x[1] = q[1];
   }
-  if constexpr (requires { Map::clock(s); }) x[4] = ops::lanes_of(Map::clock(s));
+  if constexpr (requires { Map::clock(s); }) x[4] = Map::clock(s);
   return x;
+}
+
+// The same as [coordinate][lane] doubles.
+template <class V>
+std::array<std::array<double, ops::lanes<V>>, 5> lanes_of(const std::array<V, 5>& x) {
+  std::array<std::array<double, ops::lanes<V>>, 5> out;
+  for (std::size_t k = 0; k < 5; ++k) out[k] = ops::lanes_of(x[k]);
+  return out;
 }
 
 // Adds the coordinates of the alive lanes to every density histogram.
@@ -70,7 +88,7 @@ template <class Map, class V>
 void sample_densities(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
                       ops::mask_t<V> alive, Observers& o) {
   if (o.densities.empty()) return;
-  const auto x = node_coordinates<Map>(c, s, o.densities_need_momentum());
+  const auto x = lanes_of(node_values<Map>(c, s, o.densities_need_momentum()));
   const auto live = ops::lanes_of(alive);
   for (std::size_t l = 0; l < live.size(); ++l) {
     if (!live[l]) continue;
@@ -83,26 +101,36 @@ void sample_densities(const typename Map::Coeffs& c, const typename Map::templat
   }
 }
 
+// The lanes whose plane coordinate crosses the section from a (node n) to b (node n + 1).
+template <class V>
+ops::mask_t<V> crosses(const Section& section, V a, V b) {
+  const V v(section.value);
+  const auto up = (a < v) & (b >= v), down = (a > v) & (b <= v);
+  return section.direction > 0 ? up : section.direction < 0 ? down : up | down;
+}
+
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
-// (the state s) is recorded; `before` becomes node n + 1.
+// (the state s) is recorded; `before` becomes node n + 1. Lanes are unpacked only on a crossing.
 template <class Map, class V>
 void check_sections(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
                     ops::mask_t<V> alive, Observers& o, std::size_t first_orbit, long long step,
-                    NodeCoordinates<V>& before) {
+                    std::array<V, 5>& before) {
   if (o.sections.empty()) return;
-  const auto after = node_coordinates<Map>(c, s, o.sections_need_momentum());
-  const auto live = ops::lanes_of(alive);
-  for (std::size_t l = 0; l < live.size(); ++l) {
-    if (!live[l]) continue;
-    for (auto& section : o.sections) {
-      const auto p = static_cast<std::size_t>(section.plane);
-      if (!section.crosses(before[p][l], after[p][l])) continue;
-      double b[5], a[5];
+  const auto after = node_values<Map>(c, s, o.sections_need_momentum());
+  for (auto& section : o.sections) {
+    const auto p = static_cast<std::size_t>(section.plane);
+    const auto crossing = crosses(section, before[p], after[p]) & alive;
+    if (!ops::any(crossing)) continue;
+    const auto lanes = ops::lanes_of(crossing);
+    const auto b = lanes_of(before), a = lanes_of(after);
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+      if (!lanes[l]) continue;
+      double bl[5], al[5];
       for (std::size_t k = 0; k < 5; ++k) {
-        b[k] = before[k][l];
-        a[k] = after[k][l];
+        bl[k] = b[k][l];
+        al[k] = a[k][l];
       }
-      section.record(static_cast<std::int64_t>(first_orbit + l), step, b, a);
+      section.record(static_cast<std::int64_t>(first_orbit + l), step, bl, al);
     }
   }
   before = after;

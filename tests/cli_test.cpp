@@ -146,6 +146,28 @@ TEST_F(Cli, EnsembleLargerThanMemoryIsAUsageErrorNotACrash) {
                   {"10000000000000 orbits need about", "GiB; this machine has"});
 }
 
+TEST_F(Cli, BadObserverConfigurationIsRejectedNamingTheKey) {
+  const std::string histogram = "\n[[histogram]]\nname = \"h\"\nx = \"q1\"\ny = \"q2\"\n"
+                                "x_range = [-1.0, 1.0]\ny_range = [-1.0, 1.0]\n";
+  expect_rejected(run_config(config + histogram + "bins = [0, 4]\n"), 2, {"[histogram[0]] bins must be > 0"});
+  expect_rejected(run_config(config + histogram + "bins = [4, -1]\n"), 2, {"bins must be > 0"});
+  expect_rejected(run_config(with_line(config + histogram, "x_range = ", "x_range = [1.0, 1.0]")), 2,
+                  {"x_range is an empty range"});
+  expect_rejected(run_config(with_line(config + histogram, "x = ", "x = \"q3\"")), 2,
+                  {"unknown coordinate 'q3'"});
+  expect_rejected(run_config(config + histogram + "colour = 1\n"), 2, {"colour: unknown key"});
+  const std::string section = "\n[[section]]\nname = \"s\"\nplane = \"q1\"\nx = \"q2\"\ny = \"p2\"\n"
+                              "x_range = [-1.0, 1.0]\ny_range = [-1.0, 1.0]\n";
+  expect_rejected(run_config(config + section + "cap = -1\n"), 2, {"[section[0]] cap must be >= 0"});
+  expect_rejected(run_config(config + section + "direction = \"up\"\n"), 2, {"direction must be"});
+  expect_rejected(run_config(config + section + "mode = \"cubic\"\n"), 2, {"mode must be"});
+  expect_rejected(run_config(config + histogram + "bins = 4\n" + with_line(section, "name = ", "name = \"h\"")),
+                  2, {"[section[0]] name: 'h' is used twice"});
+  expect_rejected(run_config(config + "\n[invariant_image]\nx = \"H\"\ny = \"K\"\n"
+                                      "x_range = [0.0, 1.0]\ny_range = [0.0, 1.0]\n"),
+                  2, {"'K' is not an invariant of map 'suris' (H, I1, I2)"});
+}
+
 TEST_F(Cli, FailedRunLeavesExistingOutputIdentical) {
   write_text(output, "an earlier run");
   const Result r = run_config(config, {"--set", "map.h=0"});

@@ -101,9 +101,11 @@ inline int line_of(const std::string& text, const std::string& prefix) {
 }
 
 // The shipped preset, shrunk to `orbits` × `steps` and writing to `output`.
+// The Suris preset's map, ensemble, run and output (its observers left out), with these values.
 inline std::string preset_config(const std::string& output, long long orbits = 100,
                                  long long steps = 50) {
   std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/suris.toml");
+  text = text.substr(0, text.find("\n[["));
   text = with_line(text, "orbits = ", "orbits = " + std::to_string(orbits));
   text = with_line(text, "steps = ", "steps = " + std::to_string(steps));
   return with_line(text, "file = ", "file = \"" + output + "\"");
