@@ -6,7 +6,7 @@
 #include <string>
 
 #include "core/isa.hpp"
-#include "ensembles/box.hpp"
+#include "bench_ensemble.hpp"
 #include "ensembles/catalogue.hpp"
 
 namespace qmaps {
@@ -35,18 +35,9 @@ void step_ensemble(benchmark::State& state, const Bench& bench, Isa isa) {
   const auto orbits = static_cast<std::size_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   const auto model = make_model(bench.map, bench.params);
-  Box box;
-  box.orbits = orbits;
-  box.seed = 1;
-  box.ranges = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
-  Ensemble e = model->start(box.points(), Start::taylor, 1e8);
-  RunPlan plan;
-  plan.total = 1LL << 60;
-  plan.track_invariants = false;
+  Ensemble e = bench_ensemble(*model, orbits);
   for (auto _ : state) {
-    plan.first = e.step;
-    plan.last = e.step + steps;
-    model->advance(e, plan, Execution{isa, threads, 4});
+    model->advance(e, next_steps(e, steps, false), Execution{isa, threads, 4});
     benchmark::DoNotOptimize(e.state[2][0]);
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long long>(orbits) * steps);

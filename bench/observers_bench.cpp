@@ -4,7 +4,7 @@
 #include <benchmark/benchmark.h>
 
 #include "core/isa.hpp"
-#include "ensembles/box.hpp"
+#include "bench_ensemble.hpp"
 #include "ensembles/catalogue.hpp"
 
 namespace qmaps {
@@ -16,25 +16,16 @@ void observe(benchmark::State& state, bool invariants, bool density) {
   const long long stride = state.range(0);
   const int threads = static_cast<int>(state.range(1));
   const auto model = make_model("suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}});
-  Box box;
-  box.orbits = 1 << 18;
-  box.seed = 1;
-  box.ranges = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
-  Ensemble e = model->start(box.points(), Start::taylor, 1e8);
-  RunPlan plan;
-  plan.total = 1LL << 60;
-  plan.stride = stride;
-  plan.track_invariants = invariants;
+  const std::size_t orbits = 1 << 18;
+  Ensemble e = bench_ensemble(*model, orbits);
   Observers o;
   if (density)
     o.densities.push_back({Histogram("q1q2", {{"q1", -1, 1, 128}, {"q2", -1, 1, 128}}),
                            {Coordinate::q1, Coordinate::q2}});
-  for (auto _ : state) {
-    plan.first = e.step;
-    plan.last = e.step + steps;
-    model->advance(e, plan, Execution{best_isa(), threads, 4}, density ? &o : nullptr);
-  }
-  const double orbit_steps = static_cast<double>(state.iterations()) * box.orbits * steps;
+  for (auto _ : state)
+    model->advance(e, next_steps(e, steps, invariants, stride), Execution{best_isa(), threads, 4},
+                   density ? &o : nullptr);
+  const double orbit_steps = static_cast<double>(state.iterations()) * orbits * steps;
   state.SetItemsProcessed(static_cast<std::int64_t>(orbit_steps));
   if (density)
     state.counters["histogram_updates_per_second"] = benchmark::Counter(
