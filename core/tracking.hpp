@@ -88,16 +88,12 @@ template <class Map, class V>
 void sample_densities(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
                       ops::mask_t<V> alive, Observers& o) {
   if (o.densities.empty()) return;
-  const auto x = lanes_of(node_values<Map>(c, s, o.densities_need_momentum()));
-  const auto live = ops::lanes_of(alive);
-  for (std::size_t l = 0; l < live.size(); ++l) {
-    if (!live[l]) continue;
-    for (auto& d : o.densities) {
-      double v[2];
-      for (std::size_t a = 0; a < d.coordinates.size(); ++a)
-        v[a] = x[static_cast<std::size_t>(d.coordinates[a])][l];
-      d.histogram.add(v);
-    }
+  const auto x = node_values<Map>(c, s, o.densities_need_momentum());
+  for (auto& d : o.densities) {
+    V v[2];
+    for (std::size_t a = 0; a < d.coordinates.size(); ++a)
+      v[a] = x[static_cast<std::size_t>(d.coordinates[a])];
+    d.histogram.add_lanes(v, alive);
   }
 }
 
