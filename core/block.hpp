@@ -63,8 +63,7 @@ struct Lanes {
       std::array<double, std::tuple_size_v<State>> lane;
       for (std::size_t k = 0; k < t.size(); ++k) lane[k] = values[k][l];
       e.escape_step[orbit + l] = n;
-      e.escape_reason[orbit + l] = static_cast<std::uint8_t>(
-          faults[l] != 0 ? faults[l] : static_cast<double>(classify_escape(lane)));
+      e.escape_reason[orbit + l] = escape_reason(faults[l], lane);
     }
   }
 };

@@ -18,10 +18,11 @@ std::string_view escape_reason_name(EscapeReason reason) {
   return "?";
 }
 
-EscapeReason classify_escape(std::span<const double> state) {
+std::uint8_t escape_reason(double fault, std::span<const double> state) {
+  if (fault != 0) return static_cast<std::uint8_t>(fault);
   for (double x : state)
-    if (!std::isfinite(x)) return EscapeReason::non_finite;
-  return EscapeReason::beyond_bound;
+    if (!std::isfinite(x)) return static_cast<std::uint8_t>(EscapeReason::non_finite);
+  return static_cast<std::uint8_t>(EscapeReason::beyond_bound);
 }
 
 Ensemble::Ensemble(std::size_t n, std::size_t state_size, std::size_t invariants)

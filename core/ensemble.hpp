@@ -21,9 +21,10 @@ enum class EscapeReason : std::uint8_t {
   wrong_branch = 5,     // an implicit step's root is not on the physical branch
 };
 std::string_view escape_reason_name(EscapeReason reason);
-// Why a state (its components, one orbit) escaped: non-finite, else beyond the bound.
+// Why a state (its components, one orbit) escaped: the solver's fault code when it is not 0,
+// else non-finite, else beyond the bound.
 // Out of line on purpose: the per-ISA translation units must not emit shared inline code.
-EscapeReason classify_escape(std::span<const double> state);
+std::uint8_t escape_reason(double fault, std::span<const double> state);
 
 struct Ensemble {
   // Widest block of the runner: 8 lanes × 8 chains. Every block size divides it.

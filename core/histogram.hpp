@@ -26,21 +26,13 @@ class Histogram {
   Histogram(std::string name, std::vector<Axis> axes);
 
   // One sample: a value per axis.
-  void add(const double* x) {
-    ++samples_;
-    const std::int64_t i = bin(0, x[0]), j = rank_ == 2 ? bin(1, x[1]) : 0;
-    if (i < 0 || j < 0)
-      ++underflow_;
-    else if (i >= bins_[0] || j >= bins_[1])
-      ++overflow_;
-    else
-      ++counts_[static_cast<std::size_t>(i * bins_[1] + j)];
-  }
+  void add(const double* x) { add_lanes<double>(x, true); }
+
   // One sample per alive lane of V: the values of axis k in x[k]. The fractional bins are computed
-  // in V with the same arithmetic as add(), so every path bins alike; counting is per lane.
+  // in V, with the same arithmetic for double, so every path bins alike; counting is per lane.
   template <class V>
   void add_lanes(const V* x, ops::mask_t<V> alive) {
-    V f[2];
+    V f[2] = {V(0.0), V(0.0)};  // a 1D histogram's second bin stays 0
     // no lane, every lane (comparing masks themselves is unsafe: sse2 compares their NaN bits)
     ops::mask_t<V> below = V(0.0) != V(0.0), inside = V(0.0) == V(0.0);
     for (int k = 0; k < rank_; ++k) {
@@ -50,7 +42,7 @@ class Histogram {
     }
     const auto live = ops::lanes_of(alive), low = ops::lanes_of(below), in = ops::lanes_of(inside);
     const auto fx = ops::lanes_of(f[0]);
-    const auto fy = ops::lanes_of(rank_ == 2 ? f[1] : V(0.0));
+    const auto fy = ops::lanes_of(f[1]);
     for (std::size_t l = 0; l < live.size(); ++l) {
       if (!live[l]) continue;
       ++samples_;
@@ -76,14 +68,6 @@ class Histogram {
   std::int64_t samples() const { return samples_; }
 
  private:
-  // Axis k's bin of x, as Axis::bin, from the cached lo, hi and bins/(hi − lo).
-  std::int64_t bin(int k, double x) const {
-    if (x < lo_[k]) return -1;
-    if (!(x < hi_[k])) return bins_[k];
-    const auto i = static_cast<std::int64_t>((x - lo_[k]) * scale_[k]);
-    return i < bins_[k] ? i : bins_[k] - 1;
-  }
-
   std::string name_;
   std::vector<Axis> axes_;
   int rank_ = 1;

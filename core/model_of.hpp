@@ -35,7 +35,7 @@ class ModelOf final : public Model {
       for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
       if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
         e.escape_step[i] = 0;
-        e.escape_reason[i] = static_cast<std::uint8_t>(classify_escape(s));
+        e.escape_reason[i] = escape_reason(0, s);
       }
       double values[Map::max_invariants];
       Map::invariants(c_, s, values);

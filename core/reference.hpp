@@ -31,8 +31,7 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
       const double fault = step_reporting_faults<Map>(c, next);
       if (fault != 0 || !(Map::escape_measure(next) <= bound2)) {
         e.escape_step[i] = n;
-        e.escape_reason[i] = static_cast<std::uint8_t>(fault != 0 ? fault : static_cast<double>(
-                                                                      classify_escape(next)));
+        e.escape_reason[i] = escape_reason(fault, next);
         break;
       }
       s = next;

@@ -1,7 +1,7 @@
 #pragma once
 // What both paths do to an orbit besides the map's arithmetic, written once for V = double and
-// V = batch: step it and report a solver's fault, sample its invariants (max |I_n − I_0| over
-// the alive lanes).
+// V = batch: step it and report a solver's fault, track its invariants (max |I_n − I_0| over
+// the alive samples), sample the densities and check the sections.
 #include <array>
 #include <cstddef>
 #include <type_traits>
