@@ -1,5 +1,8 @@
 #include "core/histogram.hpp"
 
+#include <numeric>
+#include <string>
+
 #include "core/error.hpp"
 
 namespace qmaps {
@@ -21,17 +24,23 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
     lo_[k] = a.lo;
     hi_[k] = a.hi;
     bins_[k] = a.bins;
+    last_[k] = static_cast<double>(a.bins - 1);
     scale_[k] = static_cast<double>(a.bins) / (a.hi - a.lo);
     cells *= static_cast<std::size_t>(a.bins);
   }
-  counts_.assign(cells, 0);
+  if (cells > (std::size_t{1} << 40))
+    throw usage_error("histogram '" + name_ + "' has too many cells (" + std::to_string(cells) + ")");
+  cells_ = cells;
+  counts_.assign(cells + 3, 0);
+}
+
+std::int64_t Histogram::samples() const {
+  return std::accumulate(counts_.begin(), counts_.begin() + static_cast<std::ptrdiff_t>(cells_ + 2),
+                         std::int64_t{0});
 }
 
 void Histogram::merge(const Histogram& other) {
   for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
-  underflow_ += other.underflow_;
-  overflow_ += other.overflow_;
-  samples_ += other.samples_;
 }
 
 Histogram Histogram::empty_copy() const { return Histogram(name_, axes_); }

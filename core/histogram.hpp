@@ -4,6 +4,7 @@
 // above some axis, or not a number). Merging adds counts, exact in any order.
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -28,32 +29,24 @@ class Histogram {
   // One sample: a value per axis.
   void add(const double* x) { add_lanes<double>(x, true); }
 
-  // One sample per alive lane of V: the values of axis k in x[k]. The fractional bins are computed
-  // in V, with the same arithmetic for double, so every path bins alike; counting is per lane.
+  // One sample per alive lane of V: the values of axis k in x[k]. Each lane's slot (its cell, or
+  // the underflow, overflow or discard tally past the cells) is computed in V with the same
+  // arithmetic for double, so every path bins alike; then one increment per lane, no branches.
   template <class V>
   void add_lanes(const V* x, ops::mask_t<V> alive) {
-    V f[2] = {V(0.0), V(0.0)};  // a 1D histogram's second bin stays 0
     // no lane, every lane (comparing masks themselves is unsafe: sse2 compares their NaN bits)
     ops::mask_t<V> below = V(0.0) != V(0.0), inside = V(0.0) == V(0.0);
+    V cell(0.0);  // row-major: ((i0) · bins1 + i1), exact in doubles
     for (int k = 0; k < rank_; ++k) {
-      f[k] = (x[k] - V(lo_[k])) * V(scale_[k]);
       below = below | (x[k] < V(lo_[k]));
       inside = inside & (x[k] < V(hi_[k]));
+      const V f = ops::floor((x[k] - V(lo_[k])) * V(scale_[k]));  // rounding may give bins
+      cell = cell * V(static_cast<double>(bins_[k])) + ops::min(f, V(last_[k]));
     }
-    const auto live = ops::lanes_of(alive), low = ops::lanes_of(below), in = ops::lanes_of(inside);
-    const auto fx = ops::lanes_of(f[0]);
-    const auto fy = ops::lanes_of(f[1]);
-    for (std::size_t l = 0; l < live.size(); ++l) {
-      if (!live[l]) continue;
-      ++samples_;
-      if (low[l] || !in[l]) {
-        ++(low[l] ? underflow_ : overflow_);
-        continue;
-      }
-      const std::int64_t i = std::min(static_cast<std::int64_t>(fx[l]), bins_[0] - 1);
-      const std::int64_t j = std::min(static_cast<std::int64_t>(fy[l]), bins_[1] - 1);
-      ++counts_[static_cast<std::size_t>(i * bins_[1] + j)];
-    }
+    const V tally = ops::select(below, V(tally_underflow()), V(tally_overflow()));
+    const V slot = ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
+                               V(tally_discard()));
+    for (const double s : ops::lanes_of(slot)) ++counts_[static_cast<std::size_t>(s)];
   }
 
   void merge(const Histogram& other);
@@ -62,19 +55,25 @@ class Histogram {
 
   const std::string& name() const { return name_; }
   const std::vector<Axis>& axes() const { return axes_; }
-  const std::vector<std::int64_t>& counts() const { return counts_; }  // row-major, x first
-  std::int64_t underflow() const { return underflow_; }
-  std::int64_t overflow() const { return overflow_; }
-  std::int64_t samples() const { return samples_; }
+  std::span<const std::int64_t> counts() const {  // row-major, x first
+    return {counts_.data(), cells_};
+  }
+  std::int64_t underflow() const { return counts_[cells_]; }
+  std::int64_t overflow() const { return counts_[cells_ + 1]; }
+  std::int64_t samples() const;  // every count but the discarded lanes'
 
  private:
   std::string name_;
   std::vector<Axis> axes_;
   int rank_ = 1;
-  double lo_[2] = {0, 0}, hi_[2] = {1, 1}, scale_[2] = {1, 1};
+  double lo_[2] = {0, 0}, hi_[2] = {1, 1}, scale_[2] = {1, 1}, last_[2] = {0, 0};
   std::int64_t bins_[2] = {1, 1};
-  std::vector<std::int64_t> counts_;
-  std::int64_t underflow_ = 0, overflow_ = 0, samples_ = 0;
+  std::size_t cells_ = 1;
+  std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+
+  double tally_underflow() const { return static_cast<double>(cells_); }
+  double tally_overflow() const { return static_cast<double>(cells_ + 1); }
+  double tally_discard() const { return static_cast<double>(cells_ + 2); }
 };
 
 }  // namespace qmaps

@@ -8,8 +8,8 @@
 //   fms(a, b, c)    a·b − c rounded once, likewise
 //   neg(a)          −a exactly, signed zeros included. Never write unary minus on a batch:
 //                   xsimd 8's AVX-512 negation is 0 − a, which maps +0 to +0.
-//   sqrt, abs       correctly rounded / exact on every path
-//   select, max     per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
+//   sqrt, abs, floor  correctly rounded / exact on every path
+//   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //
 // This is the only file that touches xsimd or intrinsics.
 #include <array>
@@ -54,6 +54,8 @@ template <std::floating_point T>
 inline T sqrt(T a) { return std::sqrt(a); }
 template <std::floating_point T>
 inline T abs(T a) { return std::fabs(a); }
+template <std::floating_point T>
+inline T floor(T a) { return std::floor(a); }
 template <std::floating_point T>
 inline T select(bool m, T a, T b) { return m ? a : b; }
 inline bool any(bool m) { return m; }
@@ -111,6 +113,13 @@ inline batch<A> sqrt(batch<A> a) { return xsimd::sqrt(a); }
 template <class A>
 inline batch<A> abs(batch<A> a) { return xsimd::abs(a); }
 template <class A>
+inline batch<A> floor(batch<A> a) {
+  if constexpr (std::is_same_v<A, xsimd::avx512f>)  // xsimd's form reads an undefined register
+    return _mm512_maskz_roundscale_pd(0xFF, a, _MM_FROUND_TO_NEG_INF);
+  else
+    return xsimd::floor(a);
+}
+template <class A>
 inline batch<A> select(xsimd::batch_bool<double, A> m, batch<A> a, batch<A> b) {
   return xsimd::select(m, a, b);
 }
@@ -142,6 +151,8 @@ inline std::array<bool, batch<A>::size> lanes_of(xsimd::batch_bool<double, A> m)
 // ---- written once for both --------------------------------------------------------------------
 template <class V>
 inline V max(V a, V b) { return select(b > a, b, a); }
+template <class V>
+inline V min(V a, V b) { return select(b < a, b, a); }
 template <class V>
 inline V square(V a) { return a * a; }
 // −0 − a: exact negation (+0 → −0, −0 → +0), the same arithmetic on every path.

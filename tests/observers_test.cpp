@@ -3,6 +3,7 @@
 // caps bounding memory, and identical output on every path.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -53,12 +54,12 @@ std::int64_t total(const Histogram& h) {
 bool same_bytes(const Observers& a, const Observers& b) {
   for (std::size_t i = 0; i < a.densities.size(); ++i) {
     const auto &x = a.densities[i].histogram, &y = b.densities[i].histogram;
-    if (x.counts() != y.counts() || x.underflow() != y.underflow() || x.overflow() != y.overflow())
+    if (!std::ranges::equal(x.counts(), y.counts()) || x.underflow() != y.underflow() || x.overflow() != y.overflow())
       return false;
   }
   for (std::size_t i = 0; i < a.sections.size(); ++i) {
     const auto &x = a.sections[i], &y = b.sections[i];
-    if (x.points.size() != y.points.size() || x.density.counts() != y.density.counts()) return false;
+    if (x.points.size() != y.points.size() || !std::ranges::equal(x.density.counts(), y.density.counts())) return false;
     if (!x.points.empty() &&
         std::memcmp(x.points.data(), y.points.data(), x.points.size() * sizeof(SectionPoint)) != 0)
       return false;
