@@ -1,6 +1,10 @@
 """tools/qmaps_h5.py: every object docs/hdf5-schema.md lists comes back under its name, datasets
 with the file's values, dtype and shape, attributes as str, int or float by their documented type;
-skipped datasets are not read; unreadable files are clear errors."""
+skipped datasets are not read; unreadable files are clear errors. The Python examples of the README,
+docs/python.md and docs/hdf5-schema.md run as written on a run named suris.h5."""
+import os
+import re
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -105,6 +109,24 @@ class Loader(unittest.TestCase):
             with self.subTest(why=why), self.assertRaises(qmaps_h5.QmapsFileError) as caught:
                 qmaps_h5.load(path)
             self.assertEqual(str(caught.exception), f"{path}: {why}")
+
+
+class DocumentedExamples(unittest.TestCase):
+    def test_every_python_block_runs(self):
+        pages = [small_run.SOURCE_DIR / p for p in ("README.md", "docs/python.md",
+                                                     "docs/hdf5-schema.md")]
+        with tempfile.TemporaryDirectory() as tmp:
+            small_run.small_run(tmp, orbits=200, steps=50, name="suris.h5")
+            os.symlink(small_run.TOOLS, os.path.join(tmp, "tools"))
+            ran = 0
+            for page in pages:
+                for block in re.findall(r"^```python\n(.*?)^```", page.read_text(), re.M | re.S):
+                    with self.subTest(page=page.name, block=block[:60]):
+                        r = subprocess.run([sys.executable, "-B", "-c", block], cwd=tmp,
+                                           capture_output=True, text=True)
+                        self.assertEqual(r.returncode, 0, r.stderr)
+                        ran += 1
+            self.assertGreaterEqual(ran, 4)
 
 
 if __name__ == "__main__":

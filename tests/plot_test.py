@@ -84,7 +84,10 @@ class PlotTool(unittest.TestCase):
         names = [f"run-{k}.png" for k in KINDS] + ["run-summary.png"]
         self.assertEqual(r.stdout.split(), [str(out / n) for n in names])
         self.assertEqual(sorted(p.name for p in out.iterdir()), sorted(names))
-        columns, rows = 3, math.ceil(len(KINDS) / 3)
+        columns, rows = plot.summary_grid(len(KINDS))
+        self.assertEqual((columns, rows), (3, 2))
+        self.assertEqual(plot.summary_grid(4), (2, 2))
+        self.assertEqual(plot.summary_grid(1), (1, 1))
         for name in names:
             with self.subTest(image=name):
                 pixels = matplotlib.image.imread(out / name)
