@@ -1,8 +1,8 @@
 """The objects docs/hdf5-schema.md lists, parsed from its tables, and how to match a file to them.
 
 The page has tables per group: `## Root attributes` (name | type | meaning) and `## Groups and
-datasets` for `/`, and a "### `/path`" heading for every other group (name | kind | shape, type | meaning). A name or path
-part in angle brackets (`<I>`, `<name>`, `param.<name>`) stands for any name; an exact name wins
+datasets` for `/`, and a "### `/path`" heading for every other group (name | kind | shape, type |
+meaning). A name or path part in angle brackets (`<I>`, `<name>`, `param.<name>`) stands for any name; an exact name wins
 over a placeholder (`/invariants/image` is not an `<I>`).
 """
 import dataclasses
@@ -39,36 +39,39 @@ def _shapes(cell, count):
     return [tuple(shapes)] * count
 
 
+def _group_of(title):
+    """The group a heading documents: "/" for the root's two sections, the path of a heading
+    that names exactly one ("`/final/state`"), else None (a section with no table of a group)."""
+    if title in ("Root attributes", "Groups and datasets"):
+        return "/"
+    paths = re.findall(r"`(/[^`]*)`", title)
+    return paths[0] if len(paths) == 1 else None
+
+
 def parse(path):
     """Every Entry of the page at `path`, in order."""
     entries, group, header = [], None, None
     with open(path, encoding="utf-8") as page:
-        lines = page.readlines()
+        lines = page.read().splitlines()
     for line in lines:
-        heading = re.match(r"^(#+) (.*)$", line)
+        heading = re.match(r"^#+ (.*)$", line)
         if heading:
-            title = heading.group(2)
-            paths = re.findall(r"`(/[^`]*)`", title)
-            group = "/" if title in ("Root attributes", "Groups and datasets") else paths[0] if len(paths) == 1 else None
-            header = None
-            continue
+            group = _group_of(heading.group(1))
         if group is None or not line.startswith("|"):
-            header = None if not line.startswith("|") else header
+            header = None  # a table ends where its lines end
             continue
-        cells = _cells(line)
         if header is None:
-            header = cells
+            header = _cells(line)
             continue
-        if set(line) <= set("|- \n"):
+        if set(line) <= set("|- "):
             continue
-        row = dict(zip(header, cells))
+        row = dict(zip(header, _cells(line)))
         names = _names(row["name"])
         kind = row.get("kind", "attribute")
         typed = row.get("shape, type", row.get("type", ""))
         dtype = next((t for t in ("int64", "float64", "uint8", "string") if t in typed), "")
         shapes = _shapes(typed, len(names)) if kind == "dataset" else [()] * len(names)
-        for name, shape in zip(names, shapes):
-            entries.append(Entry(group, name, kind, dtype, shape))
+        entries.extend(Entry(group, name, kind, dtype, shape) for name, shape in zip(names, shapes))
     return entries
 
 
