@@ -69,12 +69,12 @@ class PlotTool(unittest.TestCase):
     def tearDownClass(cls):
         cls.tmp.cleanup()
 
-    def axes_of(self, kind):
-        """A fresh Axes with the picture `kind` drawn on it."""
+    def axes_of(self, kind, run=None):
+        """A fresh Axes with the picture `kind` of `run` (default the small run) drawn on it."""
         fig = plt.figure()
         self.addCleanup(plt.close, fig)
         ax = fig.add_subplot()
-        dict(plot.items(self.loaded, "H"))[kind](ax)
+        dict(plot.items(run or self.loaded, "H"))[kind](ax)
         return ax
 
     def test_writes_every_picture_at_its_size(self):
@@ -143,6 +143,17 @@ class PlotTool(unittest.TestCase):
         image = ax.get_images()[0]
         self.assertIsInstance(image.norm, matplotlib.colors.LogNorm)
         np.testing.assert_array_equal(image.get_array().filled(0), g.datasets["density"].T)
+
+    def test_run_without_steps_draws_empty_panels_as_such(self):
+        path = small_run.small_run(self.dir, orbits=50, steps=0, name="still.h5")
+        still = plot.qmaps_h5.load(path)
+        self.assertEqual(len(still["sections/q2both/x"]), 0)
+        for kind, says in (("section-q2both", "no points kept"), ("section-q2both", "no samples"),
+                           ("drift", "no drift other than 0")):
+            with self.subTest(kind=kind, says=says):
+                ax = self.axes_of(kind, still)
+                self.assertTrue(any(says in text.get_text() for text in ax.texts))
+                self.assertEqual(len(ax.get_images()), 0)
 
     def test_drift_histograms_with_machine_epsilon(self):
         ax = self.axes_of("drift")
