@@ -8,6 +8,7 @@ import importlib.util
 import io
 import math
 import pathlib
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -98,11 +99,17 @@ class PlotTool(unittest.TestCase):
                 colours = len(np.unique(pixels.reshape(-1, pixels.shape[2]), axis=0))
                 self.assertGreater(colours, 50, "no colour map or curve drawn")
 
-    def test_pdf(self):
+    def test_pdf_of_a_run_without_observers(self):
+        bare = self.dir / "bare.h5"
+        shutil.copyfile(self.path, bare)
+        with h5py.File(bare, "a") as f:
+            for path in ("histograms", "sections", "invariants/image"):
+                del f[path]
         out = self.dir / "pdf"
-        status, _, err = run_main(self.path, "-o", out, "--format", "pdf")
+        status, stdout, err = run_main(bare, "-o", out, "--format", "pdf")
         self.assertEqual(status, 0, err)
-        self.assertEqual(len(list(out.iterdir())), len(KINDS) + 1)
+        self.assertEqual(stdout.split(),
+                         [str(out / "bare-drift.pdf"), str(out / "bare-summary.pdf")])
         for p in out.iterdir():
             self.assertEqual(p.read_bytes()[:5], b"%PDF-", p.name)
 
