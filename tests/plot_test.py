@@ -1,7 +1,8 @@
 """tools/qmaps-plot on a small run with every kind of observer: it writes the predictable names at
-the documented pixel sizes (6.4 x 4.8 in, summary panels 5 x 4 in, at --dpi), every image has content, each panel draws what the file holds (log
-colour scale, points coloured by their orbit's invariant, density when capped, machine epsilon),
-and bad input is a clear error that writes nothing."""
+the documented pixel sizes (6.4 x 4.8 in, summary panels 5 x 4 in, at --dpi), every image has
+content, each panel draws what the file holds (log colour scale, points coloured by their orbit's
+invariant, density when capped, machine epsilon), and bad input is a clear error that writes
+nothing."""
 import contextlib
 import importlib.machinery
 import importlib.util

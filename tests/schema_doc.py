@@ -2,8 +2,8 @@
 
 The page has tables per group: `## Root attributes` (name | type | meaning) and `## Groups and
 datasets` for `/`, and a "### `/path`" heading for every other group (name | kind | shape, type |
-meaning). A name or path part in angle brackets (`<I>`, `<name>`, `param.<name>`) stands for any name; an exact name wins
-over a placeholder (`/invariants/image` is not an `<I>`).
+meaning). A name or path part in angle brackets (`<I>`, `<name>`, `param.<name>`) stands for
+any name; an exact name wins over a placeholder (`/invariants/image` is not an `<I>`).
 """
 import dataclasses
 import re
@@ -102,7 +102,8 @@ class Schema:
         """The documented group ("/invariants/<I>") a file's group ("/invariants/H") is, or None."""
         documented = "/"
         for part in [p for p in concrete.split("/") if p]:
-            subgroups = [e.name for e in self.entries if e.group == documented and e.kind == "group"]
+            subgroups = [e.name for e in self.entries
+                         if e.group == documented and e.kind == "group"]
             name = _best(subgroups, part)
             if name is None:
                 return None
@@ -130,8 +131,10 @@ def dtype_name(value):
 
 def shape_matches(shape, alternatives, sizes):
     """Whether `shape` is one of `alternatives` once N_o, N_p, nx, ny take `sizes`' values."""
+    def size(term):  # "nx + 1" with nx from `sizes`
+        return eval(term, {"__builtins__": {}}, sizes)
     for alternative in alternatives:
         if len(alternative) == len(shape) and all(
-                eval(term, {"__builtins__": {}}, sizes) == n for term, n in zip(alternative, shape)):
+                size(term) == n for term, n in zip(alternative, shape)):
             return True
     return False
