@@ -24,8 +24,6 @@ namespace {
 using kernels::Suris;
 using State = Suris::State<double>;
 
-const std::vector<std::string> kPhase = {"p1", "p2", "q1", "q2"};  // members are listed by name
-const std::vector<std::string> kState = {"q1_n", "q1_n+1", "q2_n", "q2_n+1"};
 const std::vector<std::string> kInvariants = {"H", "I1", "I2"};
 
 std::string edited(std::string text,
@@ -59,35 +57,12 @@ class Io : public ::testing::Test {
   }
 };
 
-std::string attr_type(const h5::Group& g, const std::string& name) {
-  h5::Handle a(H5Aopen(g.id(), name.c_str(), H5P_DEFAULT), H5Aclose);
-  h5::Handle t(H5Aget_type(a.id()), H5Tclose);
-  if (H5Tget_class(t.id()) == H5T_STRING) return "string";
-  if (H5Tequal(t.id(), H5T_STD_I64LE) > 0) return "int64";
-  if (H5Tequal(t.id(), H5T_IEEE_F64LE) > 0) return "float64";
-  return "other";
-}
-
-std::string dataset_type(const h5::Group& g, const std::string& name) {
-  h5::Handle d(H5Dopen2(g.id(), name.c_str(), H5P_DEFAULT), H5Dclose);
-  h5::Handle t(H5Dget_type(d.id()), H5Tclose);
-  if (H5Tequal(t.id(), H5T_STD_I64LE) > 0) return "int64";
-  if (H5Tequal(t.id(), H5T_IEEE_F64LE) > 0) return "float64";
-  if (H5Tequal(t.id(), H5T_STD_U8LE) > 0) return "uint8";
-  return "other";
-}
-
 std::vector<std::uint8_t> read_uint8(const h5::Group& g, const std::string& name) {
   h5::Handle d(H5Dopen2(g.id(), name.c_str(), H5P_DEFAULT), H5Dclose);
   h5::Handle s(H5Dget_space(d.id()), H5Sclose);
   std::vector<std::uint8_t> out(static_cast<std::size_t>(H5Sget_simple_extent_npoints(s.id())));
   H5Dread(d.id(), H5T_NATIVE_UINT8, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data());
   return out;
-}
-
-std::vector<std::string> sorted(std::vector<std::string> v) {
-  std::sort(v.begin(), v.end());
-  return v;
 }
 
 const Suris::Coeffs& coeffs() {  // the preset's parameters
@@ -111,24 +86,6 @@ std::vector<Phase> read_phases(const h5::Group& g) {
   std::vector<Phase> out(q1.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = {q1[i], q2[i], p1[i], p2[i]};
   return out;
-}
-
-TEST_F(Io, RootAttributesAreExactlyTheDocumentedOnes) {
-  const auto root = run_root({"--simd", "scalar"});
-  const std::vector<std::pair<std::string, std::vector<std::string>>> documented = {
-      {"int64",
-       {"schema_version", "steps", "orbits", "seed", "stride", "escaped", "threads", "chains"}},
-      {"float64", {"param.A", "param.B", "param.alpha", "param.h", "time", "escape_bound"}},
-      {"string",
-       {"qmaps_version", "git_commit", "compiler", "map", "ensemble", "start", "isa", "config",
-        "config_resolved", "command_line", "started", "finished"}}};
-  std::vector<std::string> names;
-  for (const auto& [type, of_type] : documented)
-    for (const auto& name : of_type) {
-      names.push_back(name);
-      EXPECT_EQ(attr_type(root, name), type) << name;
-    }
-  EXPECT_EQ(sorted(root.attr_names()), sorted(names));
 }
 
 TEST_F(Io, RootAttributesHoldTheRun) {
@@ -166,55 +123,23 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_LE(root.attr_string("started"), root.attr_string("finished"));
 }
 
-TEST_F(Io, DatasetsHaveTheDocumentedShapesAndTypes) {
+// Names, types and shapes are checked against docs/hdf5-schema.md by tests/schema_test.py; here
+// what they hold: no observer groups unless configured, the state's step, every orbit in its
+// drift histogram once, the reason codes.
+TEST_F(Io, GroupsHoldTheRun) {
   const auto root = run_root();
-  const std::size_t n = 100;
   EXPECT_EQ(root.members(), (std::vector<std::string>{"escape", "final", "initial", "invariants"}));
-  const auto check = [&](const h5::Group& g, const std::vector<std::string>& names,
-                         const std::string& type) {
-    for (const auto& name : names) {
-      EXPECT_EQ(dataset_type(g, name), type) << g.path() << "/" << name;
-      const std::size_t size = type == "uint8"   ? read_uint8(g, name).size()
-                               : type == "int64" ? g.read_int64(name).size()
-                                                 : g.read_doubles(name).size();
-      EXPECT_EQ(size, n) << g.path() << "/" << name;
-    }
-  };
-  const auto initial = root.open_group("initial"), final = root.open_group("final");
-  EXPECT_EQ(initial.members(), kPhase);
-  check(initial, kPhase, "float64");
-  auto final_members = kPhase;
-  final_members.push_back("state");
-  final_members.push_back("t");
-  EXPECT_EQ(final.members(), final_members);
-  check(final, {"t"}, "float64");
-  check(final, kPhase, "float64");
-  const auto state = final.open_group("state");
-  EXPECT_EQ(state.members(), kState);
-  check(state, kState, "float64");
-  EXPECT_EQ(state.attr_int64("step"), 50);
+  EXPECT_EQ(root.open_group("final").open_group("state").attr_int64("step"), 50);
   const auto invariants = root.open_group("invariants");
   EXPECT_EQ(invariants.members(), kInvariants);
   for (const auto& name : kInvariants) {
-    const auto g = invariants.open_group(name);
-    EXPECT_EQ(g.members(),
-              (std::vector<std::string>{"drift_histogram", "final", "initial", "max_abs_drift"}));
-    check(g, {"final", "initial", "max_abs_drift"}, "float64");
-    const auto drift = g.open_group("drift_histogram");
-    EXPECT_EQ(drift.members(), (std::vector<std::string>{"counts", "x_edges"}));
-    EXPECT_EQ(dataset_type(drift, "counts"), "int64");
-    EXPECT_EQ(drift.shape("counts"), (std::vector<hsize_t>{72}));
-    EXPECT_EQ(drift.read_int64("counts").size(), 72u);
+    const auto drift = invariants.open_group(name).open_group("drift_histogram");
     std::int64_t total = drift.attr_int64("zero") + drift.attr_int64("underflow") +
                          drift.attr_int64("overflow");
     for (auto c : drift.read_int64("counts")) total += c;
     EXPECT_EQ(total, 100) << "every orbit counts once";
   }
-  const auto escape = root.open_group("escape");
-  EXPECT_EQ(escape.members(), (std::vector<std::string>{"reason", "step"}));
-  check(escape, {"step"}, "int64");
-  check(escape, {"reason"}, "uint8");
-  EXPECT_EQ(escape.attr_string("reason_codes"),
+  EXPECT_EQ(root.open_group("escape").attr_string("reason_codes"),
             "0 none, 1 non-finite, 2 beyond bound, 3 solver did not converge, 4 solver derivative vanished, 5 solver root off the physical branch");
 }
 

@@ -1,5 +1,5 @@
 // The README never lies: every command of its sh blocks runs as written (from a scratch folder,
-// with build/ and ensembles/ pointing into this tree) and exits 0. The set-up prefix is what
+// with build/, ensembles/ and tools/ pointing into this tree) and exits 0. The set-up prefix is what
 // built this test; the test and benchmark commands are left to CI and to bench/.
 #include <gtest/gtest.h>
 
@@ -46,13 +46,17 @@ TEST(Readme, EveryExampleCommandRunsAsWritten) {
   for (std::string command : commands) {
     if (command.rfind(setup, 0) == 0) command = command.substr(setup.size());
     if (command.rfind("ctest ", 0) == 0 || command.rfind("build/bench/", 0) == 0) continue;
-    ASSERT_EQ(command.rfind("build/qmaps ", 0), 0u) << "unexpected README command: " << command;
+    ASSERT_TRUE(command.rfind("build/qmaps ", 0) == 0 || command.rfind("tools/qmaps-plot ", 0) == 0)
+        << "unexpected README command: " << command;
     TempDir dir;
     const std::string binary = std::string(QMAPS_BINARY) + " ";
     const std::string presets = std::string(" ") + QMAPS_SOURCE_DIR + "/ensembles/";
+    const std::string plot = std::string(QMAPS_SOURCE_DIR) + "/tools/qmaps-plot ";
     std::string shell = "cd '";
     shell.append(dir.path().string()).append("' && ");
-    shell.append(replace_all(replace_all(command, "build/qmaps ", binary), " ensembles/", presets));
+    shell.append(replace_all(
+        replace_all(replace_all(command, "build/qmaps ", binary), " ensembles/", presets),
+        "tools/qmaps-plot ", plot));
     shell.append(" > out.txt 2> err.txt");
     const int status = std::system(shell.c_str());
     EXPECT_EQ(status, 0) << command << "\n" << read_text(dir / "err.txt");

@@ -1,0 +1,133 @@
+"""tools/qmaps_h5.py: every object docs/hdf5-schema.md lists comes back under its name, datasets
+with the file's values, dtype and shape, attributes as str, int or float by their documented type;
+skipped datasets are not read; unreadable files are clear errors. The Python examples of the README,
+docs/python.md and docs/hdf5-schema.md run as written on a run named suris.h5."""
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import h5py
+import numpy as np
+
+import schema_doc
+import small_run
+
+sys.path.insert(0, str(small_run.TOOLS))
+import qmaps_h5  # noqa: E402
+
+PYTHON_TYPE = {"string": str, "int64": int, "float64": float}
+NUMPY_TYPE = {"int64": np.int64, "float64": np.float64, "uint8": np.uint8}
+
+
+class Loader(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.path = small_run.small_run(cls.tmp.name, orbits=300, steps=200)
+        cls.schema = schema_doc.Schema(small_run.SOURCE_DIR / "docs" / "hdf5-schema.md")
+        cls.loaded = qmaps_h5.load(cls.path)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_every_documented_object_round_trips(self):
+        seen = set()
+        with h5py.File(self.path, "r") as f:
+            def check(h5group):
+                loaded = self.loaded[h5group.name] if h5group.name != "/" else self.loaded
+                self.assertIsInstance(loaded, qmaps_h5.Group)
+                self.assertEqual(loaded.path, h5group.name)
+                self.assertEqual(set(loaded.attrs), set(h5group.attrs))
+                for name, value in h5group.attrs.items():
+                    entry = self.schema.entry(h5group.name, name, "attribute")
+                    seen.add(entry)
+                    with self.subTest(group=h5group.name, attribute=name):
+                        self.assertIs(type(loaded.attrs[name]), PYTHON_TYPE[entry.dtype])
+                        expected = value.decode() if entry.dtype == "string" else value
+                        self.assertEqual(loaded.attrs[name], expected)
+                for name, child in h5group.items():
+                    if isinstance(child, h5py.Group):
+                        seen.add(self.schema.entry(h5group.name, name, "group"))
+                        check(child)
+                        continue
+                    entry = self.schema.entry(h5group.name, name, "dataset")
+                    seen.add(entry)
+                    with self.subTest(group=h5group.name, dataset=name):
+                        data = loaded.datasets[name]
+                        self.assertIs(data, self.loaded[h5group.name + "/" + name])
+                        self.assertIsInstance(data, np.ndarray)
+                        self.assertEqual(data.dtype, NUMPY_TYPE[entry.dtype])
+                        self.assertEqual(data.shape, child.shape)
+                        np.testing.assert_array_equal(data, child[()])
+            check(f)
+        self.assertEqual(seen, set(self.schema.entries), "the run covers every documented object")
+
+    def test_run_helpers(self):
+        self.assertEqual(self.loaded.params, {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1})
+        self.assertEqual(self.loaded.invariants, ["H", "I1", "I2"])
+        self.assertEqual(self.loaded.file, str(self.path))
+        self.assertIn("invariants/H/initial", self.loaded)
+        self.assertNotIn("invariants/H/nothing", self.loaded)
+        self.assertIsNone(self.loaded.get("histograms/none"))
+        with self.assertRaises(KeyError):
+            self.loaded["invariants/H/initial/more"]
+
+    def test_histogram_of_a_group(self):
+        for path, counts in (("histograms/q1q2", "counts"), ("histograms/p1", "counts"),
+                             ("sections/q1up", "density"), ("invariants/image", "counts")):
+            g = self.loaded[path]
+            h = qmaps_h5.Histogram.of(g, counts)
+            with self.subTest(path=path):
+                self.assertIs(h.counts, g.datasets[counts])
+                self.assertEqual(len(h.edges), h.counts.ndim)
+                self.assertEqual([len(e) for e in h.edges], [n + 1 for n in h.counts.shape])
+                self.assertEqual(h.axes, [g.attrs[a] for a in "xy"[:h.counts.ndim]])
+                self.assertEqual(h.samples, h.counts.sum() + h.underflow + h.overflow)
+
+    def test_skipped_datasets_are_not_read(self):
+        run = qmaps_h5.load(self.path, skip=("final/*", "invariants/*/max_abs_drift"))
+        self.assertEqual(run["final"].datasets, {})
+        self.assertEqual(run["final/state"].datasets, {})
+        self.assertEqual(run["final/state"].attrs, self.loaded["final/state"].attrs)
+        self.assertNotIn("max_abs_drift", run["invariants/H"].datasets)
+        self.assertIn("initial", run["invariants/H"].datasets)
+
+    def test_unreadable_files_are_clear_errors(self):
+        missing = f"{self.tmp.name}/missing.h5"
+        text = f"{self.tmp.name}/text.h5"
+        foreign = f"{self.tmp.name}/foreign.h5"
+        with open(text, "w") as out:
+            out.write("not hdf5\n")
+        with h5py.File(foreign, "w") as f:
+            f.attrs["something"] = 1
+        for path, why in ((missing, "no such file"), (text, "not an HDF5 file"),
+                          (foreign, "not a qmaps run (no schema_version attribute)")):
+            with self.subTest(why=why), self.assertRaises(qmaps_h5.QmapsFileError) as caught:
+                qmaps_h5.load(path)
+            self.assertEqual(str(caught.exception), f"{path}: {why}")
+
+
+class DocumentedExamples(unittest.TestCase):
+    def test_every_python_block_runs(self):
+        pages = [small_run.SOURCE_DIR / p for p in ("README.md", "docs/python.md",
+                                                     "docs/hdf5-schema.md")]
+        with tempfile.TemporaryDirectory() as tmp:
+            small_run.small_run(tmp, orbits=200, steps=50, name="suris.h5")
+            os.symlink(small_run.TOOLS, os.path.join(tmp, "tools"))
+            ran = 0
+            for page in pages:
+                for block in re.findall(r"^```python\n(.*?)^```", page.read_text(), re.M | re.S):
+                    with self.subTest(page=page.name, block=block[:60]):
+                        r = subprocess.run([sys.executable, "-B", "-c", block], cwd=tmp,
+                                           capture_output=True, text=True)
+                        self.assertEqual(r.returncode, 0, r.stderr)
+                        ran += 1
+            self.assertGreaterEqual(ran, 4)
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

@@ -1,0 +1,98 @@
+"""docs/hdf5-schema.md and the writer agree: on a run with every kind of observer, every group,
+dataset and attribute in the file is documented with its type and shape, and every documented one
+is there (a name with a placeholder, at least once)."""
+import sys
+import tempfile
+import unittest
+
+import h5py
+
+import schema_doc
+import small_run
+
+DOC = small_run.SOURCE_DIR / "docs" / "hdf5-schema.md"
+
+
+def objects(path):
+    """(group path, name, kind, h5py value or object) of everything in the file."""
+    out = []
+    with h5py.File(path, "r") as f:
+        def visit(group):
+            gpath = group.name
+            for name, value in group.attrs.items():
+                out.append((gpath, name, "attribute", value, group))
+            for name, child in group.items():
+                kind = "group" if isinstance(child, h5py.Group) else "dataset"
+                out.append((gpath, name, kind, child[()] if kind == "dataset" else None, group))
+                if kind == "group":
+                    visit(child)
+        visit(f)
+    return out
+
+
+def sizes(f, gpath):
+    """The values of the symbols of the page's shapes in the file's group `gpath`."""
+    group = f[gpath]
+    out = {"N_o": int(f.attrs["orbits"])}
+    if "orbit" in group:
+        out["N_p"] = group["orbit"].shape[0]
+    counts = group["counts"] if "counts" in group else group.get("density")
+    if counts is not None:
+        out["nx"] = counts.shape[0]
+        out["ny"] = counts.shape[1] if counts.ndim == 2 else 0
+    return out
+
+
+class SchemaMatchesWriter(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.path = small_run.small_run(cls.tmp.name, orbits=300, steps=200)
+        cls.schema = schema_doc.Schema(DOC)
+        cls.objects = objects(cls.path)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_the_run_has_every_kind_of_observer(self):
+        with h5py.File(self.path, "r") as f:
+            ndims = {f["histograms"][n]["counts"].ndim for n in f["histograms"]}
+            self.assertEqual(ndims, {1, 2})
+            capped = [s.attrs["crossings"] > s["orbit"].shape[0] for s in f["sections"].values()]
+            self.assertEqual(sorted(capped), [False, True])
+            self.assertIn("image", f["invariants"])
+
+    def test_the_page_lists_every_group(self):
+        self.assertGreater(len(self.schema.entries), 60)
+        for group in {e.group for e in self.schema.entries}:
+            if group != "/":
+                parent, _, name = group.rpartition("/")
+                self.assertTrue(any(e.group == (parent or "/") and e.name == name
+                                    and e.kind == "group" for e in self.schema.entries), group)
+
+    def test_every_object_written_is_documented_with_its_type_and_shape(self):
+        with h5py.File(self.path, "r") as f:
+            for gpath, name, kind, value, _ in self.objects:
+                with self.subTest(group=gpath, name=name, kind=kind):
+                    entry = self.schema.entry(gpath, name, kind)
+                    self.assertIsNotNone(entry, f"{kind} {name} of {gpath} is not in {DOC.name}")
+                    if kind == "group":
+                        continue
+                    self.assertEqual(schema_doc.dtype_name(value), entry.dtype)
+                    if kind == "dataset":
+                        self.assertTrue(
+                            schema_doc.shape_matches(value.shape, entry.shapes, sizes(f, gpath)),
+                            f"shape {value.shape}, documented {entry.shapes}")
+
+    def test_every_documented_object_is_written(self):
+        written = {(self.schema.group(g), self.schema.entry(g, n, k)) for g, n, k, _, _ in
+                   self.objects}
+        for entry in self.schema.entries:
+            with self.subTest(entry=entry):
+                self.assertTrue((entry.group, entry) in written,
+                                f"{entry.kind} {entry.name} of {entry.group} is not in the file")
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)

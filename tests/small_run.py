@@ -1,0 +1,48 @@
+"""A small run of the qmaps binary with every kind of observer, for the Python tests.
+
+CMake passes the binary and the source tree as QMAPS_BINARY and QMAPS_SOURCE_DIR; run by hand,
+they default to build/qmaps and this checkout.
+"""
+import os
+import pathlib
+import subprocess
+
+SOURCE_DIR = pathlib.Path(os.environ.get("QMAPS_SOURCE_DIR", pathlib.Path(__file__).parent.parent))
+BINARY = pathlib.Path(os.environ.get("QMAPS_BINARY", SOURCE_DIR / "build" / "qmaps"))
+PRESET = SOURCE_DIR / "ensembles" / "presets" / "suris.toml"
+TOOLS = SOURCE_DIR / "tools"
+
+# Added to the preset (a 2D density, a section capped at 2 points per orbit, the image): a 1D
+# density and a section that keeps every crossing.
+EXTRA_OBSERVERS = """
+[[histogram]]
+name = "p1"
+x = "p1"
+x_range = [-1.0, 1.0]
+bins = [50]
+
+[[section]]
+name = "q2both"
+plane = "q2"
+value = 0.0
+direction = "both"
+mode = "linear"
+x = "q1"
+y = "p1"
+cap = 1000
+x_range = [-1.0, 1.0]
+y_range = [-1.0, 1.0]
+bins = [64, 64]
+"""
+
+
+def small_run(directory, orbits=2000, steps=200, name="small.h5"):
+    """Runs the preset plus EXTRA_OBSERVERS with `orbits` and `steps`; returns the file's path."""
+    directory = pathlib.Path(directory)
+    config = directory / "config.toml"
+    config.write_text(PRESET.read_text() + EXTRA_OBSERVERS)
+    out = directory / name
+    subprocess.run([str(BINARY), "run", str(config), "--set", f"ensemble.orbits={orbits}",
+                    "--set", f"run.steps={steps}", "--out", str(out), "--quiet"],
+                   check=True, capture_output=True, cwd=directory)
+    return out
