@@ -185,6 +185,33 @@ std::array<double, 2> Config::range(std::string_view section, std::string_view k
   return {lo, hi};
 }
 
+std::vector<double> Config::numbers(std::string_view section, std::string_view key,
+                                    std::size_t count) const {
+  const auto* a = node(section, key).as_array();
+  std::vector<double> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_number() && std::isfinite(*item.value<double>()))
+        out.push_back(*item.value<double>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " finite numbers");
+  return out;
+}
+
+std::vector<std::string> Config::strings(std::string_view section, std::string_view key,
+                                         std::size_t count) const {
+  const auto* a = node(section, key).as_array();
+  std::vector<std::string> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_string()) out.push_back(*item.value<std::string>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " strings");
+  return out;
+}
+
 std::vector<std::int64_t> Config::range_or_integer(std::string_view section,
                                                    std::string_view key) const {
   const auto& n = node(section, key);

@@ -35,6 +35,12 @@ class Config {
   std::string string_or(std::string_view section, std::string_view key, std::string fallback) const;
   // [lo, hi] with lo ≤ hi, both finite; a single number x means [x, x].
   std::array<double, 2> range(std::string_view section, std::string_view key) const;
+  // An array of `count` finite numbers (e.g. a phase-space point [q1, q2, p1, p2]).
+  std::vector<double> numbers(std::string_view section, std::string_view key,
+                              std::size_t count) const;
+  // An array of `count` strings (e.g. axes = ["q1", "p1"]).
+  std::vector<std::string> strings(std::string_view section, std::string_view key,
+                                   std::size_t count) const;
   // An integer n, or an array of integers (e.g. bins = [nx, ny]).
   std::vector<std::int64_t> range_or_integer(std::string_view section, std::string_view key) const;
   // Every key of a section (each is then marked used).

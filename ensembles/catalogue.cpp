@@ -16,7 +16,7 @@ namespace {
 
 template <class Map>
 MapEntry entry() {
-  return {Map::name, Map::summary, Map::params,
+  return {Map::name, Map::summary, Map::equations, Map::invariant_summary, Map::params,
           [](const ParamValues& p) -> std::unique_ptr<Model> {
             return std::make_unique<ModelOf<Map>>(p);
           }};

@@ -11,6 +11,8 @@ namespace qmaps {
 struct MapEntry {
   std::string_view name;
   std::string_view summary;
+  std::string_view equations;          // the paper's equation labels it implements
+  std::string_view invariant_summary;  // its invariants, e.g. "H, I1, I2 (A != B); H, L (A = B)"
   std::span<const ParamSpec> params;
   std::unique_ptr<Model> (*make)(const ParamValues&);
 };

@@ -117,10 +117,12 @@ TEST_F(Io, RootAttributesAreExactlyTheDocumentedOnes) {
   const auto root = run_root({"--simd", "scalar"});
   const std::vector<std::pair<std::string, std::vector<std::string>>> documented = {
       {"int64",
-       {"schema_version", "steps", "orbits", "seed", "stride", "escaped", "threads", "chains"}},
+       {"schema_version", "steps", "orbits", "seed", "rejected", "stride", "escaped", "threads",
+        "chains"}},
       {"float64", {"param.A", "param.B", "param.alpha", "param.h", "time", "escape_bound"}},
       {"string",
-       {"qmaps_version", "git_commit", "compiler", "map", "ensemble", "start", "isa", "config",
+       {"qmaps_version", "git_commit", "compiler", "map", "ensemble", "ensemble_description",
+        "start", "isa", "config",
         "config_resolved", "command_line", "started", "finished"}}};
   std::vector<std::string> names;
   for (const auto& [type, of_type] : documented)
