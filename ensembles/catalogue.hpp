@@ -1,6 +1,9 @@
 #pragma once
 // Every map qmaps runs, by the name that `--map` and `[map] name` take.
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 #include <span>
 #include <string_view>
 
@@ -18,6 +21,11 @@ struct MapEntry {
 };
 
 std::span<const MapEntry> catalogue();
+
+// The number that is the whole of `text`, if it is one.
+std::optional<double> number_in(const std::string& text);
+// Map parameters from "name=value" items (--set of `orbit` and `check`).
+ParamValues parse_params(const std::vector<std::string>& sets);
 // The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
 
