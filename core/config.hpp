@@ -22,7 +22,8 @@ class Config {
   static Config load(const std::string& path);  // throws an io error for an unreadable file
 
   // "section.key=value": value is read as a TOML value (number, string, array, boolean), and
-  // as a bare string when it is not one, so --set output.file=run.h5 needs no quotes.
+  // as a bare string when it is not one, so --set output.file=run.h5 needs no quotes. The section
+  // "name[i]" is the i-th table (from 0) of an array of tables [[name]], e.g. histogram[0].bins.
   void set(std::string_view assignment);
 
   bool has(std::string_view section, std::string_view key) const;
