@@ -109,8 +109,14 @@ TEST(Box, EveryOrbitIsIndependentOfThreads) {
   expect_independent_of_threads(ic.generator());
 }
 
+// ½p1² + V(q) for the suris preset's continuous system, V = A q1² + B q2² + α(q1² + q2²)².
+double suris_energy_without_p2(double q1, double q2, double p1) {
+  const double r2 = q1 * q1 + q2 * q2;
+  return 0.5 * p1 * p1 + 0.7 * q1 * q1 + 0.3 * q2 * q2 + 0.9 * r2 * r2;
+}
+
 // Orbit i of a random shell is the first Philox draw (seed, i, k) whose p2² = 2(E − V − p1²/2)
-// is ≥ 0, with V = A q1² + B q2² + α(q1² + q2²)² for suris; its rejections are k.
+// is ≥ 0; its rejections are k.
 TEST(Shell, RandomOrbitIsTheFirstAcceptedDrawAndCountsItsRejections) {
   const auto model = suris_model();
   const auto ic = kind_of(
@@ -124,9 +130,7 @@ TEST(Shell, RandomOrbitIsTheFirstAcceptedDrawAndCountsItsRejections) {
       ASSERT_LT(k, 1000u);
       const auto u = random.uniform4(i, k);
       const double q1 = -0.6 + 1.2 * u[0], q2 = -0.6 + 1.2 * u[1], p1 = -0.6 + 1.2 * u[2];
-      const double r2 = q1 * q1 + q2 * q2;
-      const double V = 0.7 * q1 * q1 + 0.3 * q2 * q2 + 0.9 * r2 * r2;
-      const double p2sq = 2 * (0.2 - (0.5 * p1 * p1 + V));
+      const double p2sq = 2 * (0.2 - suris_energy_without_p2(q1, q2, p1));
       if (p2sq < 0) continue;
       const Drawn d = ic.generator().draw(i);
       EXPECT_EQ(d.rejected, k) << "orbit " << i;
@@ -154,8 +158,7 @@ TEST(Shell, GridOrbitsAreTheAcceptedLatticePointsInOrder) {
     for (int b = 0; b < 5; ++b)
       for (int c = 0; c < 5; ++c) {
         const double q1 = -0.6 + 0.3 * a, q2 = -0.6 + 0.3 * b, p1 = -0.6 + 0.3 * c;
-        const double r2 = q1 * q1 + q2 * q2;
-        const double rest = 0.5 * p1 * p1 + 0.7 * q1 * q1 + 0.3 * q2 * q2 + 0.9 * r2 * r2;
+        const double rest = suris_energy_without_p2(q1, q2, p1);
         if (rest <= 0.2) expected.push_back({q1, q2, p1, -std::sqrt(2 * (0.2 - rest))});
       }
   const Generated g = generate(ic.generator());
