@@ -29,9 +29,8 @@ class ModelOf final : public Model {
   const typename Map::Coeffs& coeffs() const { return c_; }
 
   Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const override {
-    return ensemble_of(initial.size(), escape_bound, [&](std::size_t i) {
-      return Map::from_phase_space(c_, initial[i], rule);
-    });
+    return ensemble_of(initial.size(), escape_bound,
+                       [&](std::size_t i) { return Map::from_phase_space(c_, initial[i], rule); });
   }
 
   Ensemble resume(std::span<const std::vector<double>> state, double escape_bound) const override {

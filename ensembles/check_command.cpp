@@ -22,14 +22,15 @@ namespace {
 // Parameters a check uses where the user gives none: MAPS.md §5's set P1 (A = 0.7, B = 0.3,
 // α = 0.9, h = 0.1), case I's β = α and δ = 2α for the flows, and HKY's γ11 = 0.6, γ21 = 0.3.
 ParamValues with_check_defaults(const MapEntry& map, ParamValues given) {
-  const ParamValues defaults = {{"A", 0.7},     {"B", 0.3},     {"alpha", 0.9},
-                                {"beta", 0.9},  {"delta", 1.8}, {"h", 0.1},
-                                {"ds", 0.1},    {"gamma11", 0.6}, {"gamma21", 0.3}};
+  const ParamValues defaults = {{"A", 0.7},    {"B", 0.3},       {"alpha", 0.9},
+                                {"beta", 0.9}, {"delta", 1.8},   {"h", 0.1},
+                                {"ds", 0.1},   {"gamma11", 0.6}, {"gamma21", 0.3}};
   bool weights_given = false;  // case2-hky: c11 … c22 or gamma11, gamma21
   for (const auto& [name, value] : given) weights_given |= name[0] == 'c' || name[0] == 'g';
   for (const auto& p : map.params) {
     if (given.count(p.name) || !(p.required() || (p.optional && !weights_given))) continue;
-    if (const auto it = defaults.find(p.name); it != defaults.end()) given[std::string(p.name)] = it->second;
+    if (const auto it = defaults.find(p.name); it != defaults.end())
+      given[std::string(p.name)] = it->second;
   }
   return given;
 }
@@ -105,8 +106,8 @@ int check_command(const CheckOptions& o, std::ostream& out) {
   for (std::size_t i = 0; i < e.orbits; ++i) {
     if (e.escape_step[i] >= 0) continue;
     const Phase a = model->phase(e, i), b = initial[i];
-    worst = std::max({worst, std::fabs(a.q1 - b.q1), std::fabs(a.q2 - b.q2),
-                      std::fabs(a.p1 - b.p1), std::fabs(a.p2 - b.p2)});
+    worst = std::max({worst, std::fabs(a.q1 - b.q1), std::fabs(a.q2 - b.q2), std::fabs(a.p1 - b.p1),
+                      std::fabs(a.p2 - b.p2)});
     ++compared;
   }
   out << "reversibility: " << o.steps << " steps forward, reversed, " << o.steps

@@ -18,9 +18,7 @@ std::string map_text(const std::string& name, const std::vector<std::string>& pa
   return text + ")";
 }
 
-bool same(double a, double b) {
-  return a == b || (std::isnan(a) && std::isnan(b));
-}
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
 
 }  // namespace
 
@@ -35,8 +33,9 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
     const auto file = h5::File::open_read(path_);
     const auto root = file.root();
     if (!root.has_attr("schema_version") || !root.has_attr("map") || !root.has("initial"))
-      throw Error(ExitCode::io, "'" + path_ + "' is not a qmaps output file (no schema_version, "
-                                "map or /initial)");
+      throw Error(ExitCode::io, "'" + path_ +
+                                    "' is not a qmaps output file (no schema_version, "
+                                    "map or /initial)");
     // The file's map and parameters against the run's.
     const std::string map = root.attr_string("map");
     std::vector<std::string> names, file_names;
@@ -62,7 +61,8 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
     step_ = root.attr_int64("steps");
     if (final_) {
       const auto state = root.open_group("final").open_group("state");
-      for (const auto& name : model.state_names()) columns_.push_back(state.read_doubles(std::string(name)));
+      for (const auto& name : model.state_names())
+        columns_.push_back(state.read_doubles(std::string(name)));
       const auto escape = root.open_group("escape");
       escape_step_ = escape.read_int64("step");
       escape_reason_ = escape.read_int64("reason");
@@ -71,7 +71,8 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
                                       std::to_string(orbits_) + " orbits");
     } else {
       const auto initial = root.open_group("initial");
-      for (const auto name : phase_names) columns_.push_back(initial.read_doubles(std::string(name)));
+      for (const auto name : phase_names)
+        columns_.push_back(initial.read_doubles(std::string(name)));
     }
     for (const auto& column : columns_)
       if (column.size() != orbits_)
@@ -84,7 +85,8 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
 }
 
 Drawn FromFile::draw(std::size_t orbit) const {
-  if (!final_) return {{columns_[0][orbit], columns_[1][orbit], columns_[2][orbit], columns_[3][orbit]}};
+  if (!final_)
+    return {{columns_[0][orbit], columns_[1][orbit], columns_[2][orbit], columns_[3][orbit]}};
   std::vector<double> state(columns_.size());
   for (std::size_t k = 0; k < state.size(); ++k) state[k] = columns_[k][orbit];
   return {model_.phase_of(state)};

@@ -30,8 +30,8 @@ class FromFile final : public EnsembleKind {
   std::string path_;
   bool final_;
   std::size_t orbits_ = 0;
-  long long step_ = 0;                               // the earlier run's final step
-  std::vector<std::vector<double>> columns_;         // state (final) or q1 q2 p1 p2 (initial)
+  long long step_ = 0;                        // the earlier run's final step
+  std::vector<std::vector<double>> columns_;  // state (final) or q1 q2 p1 p2 (initial)
   std::vector<std::int64_t> escape_step_, escape_reason_;
 };
 

@@ -11,8 +11,7 @@ namespace qmaps {
 double lattice_value(const std::array<double, 2>& range, std::size_t points, std::size_t j) {
   if (points == 1) return 0.5 * (range[0] + range[1]);
   // std::lerp is exact at both ends: j = 0 gives lo, j = points − 1 gives hi.
-  return std::lerp(range[0], range[1],
-                   static_cast<double>(j) / static_cast<double>(points - 1));
+  return std::lerp(range[0], range[1], static_cast<double>(j) / static_cast<double>(points - 1));
 }
 
 Lattice Lattice::from_config(const Config& config, std::vector<int> axes) {
@@ -30,8 +29,8 @@ Lattice Lattice::from_config(const Config& config, std::vector<int> axes) {
     const auto name = phase_names[static_cast<std::size_t>(axes[k])];
     const auto range = config.range("ensemble", name);
     if (n > 1 && !(range[0] < range[1]))
-      throw usage_error(config.where("ensemble", name) + " is an empty range: " +
-                        std::to_string(n) + " grid points need lo < hi");
+      throw usage_error(config.where("ensemble", name) +
+                        " is an empty range: " + std::to_string(n) + " grid points need lo < hi");
     l.ranges.push_back(range);
     l.points.push_back(static_cast<std::size_t>(n));
     total *= static_cast<double>(n);
@@ -58,8 +57,9 @@ void Lattice::place(std::size_t index, std::array<double, 4>& x) const {
 std::string Lattice::text() const {
   std::string out;
   for (std::size_t k = 0; k < axes.size(); ++k)
-    out += std::string(k ? ", " : "") + std::string(phase_names[static_cast<std::size_t>(axes[k])]) +
-           " " + range_text(ranges[k]) + " x " + std::to_string(points[k]);
+    out += std::string(k ? ", " : "") +
+           std::string(phase_names[static_cast<std::size_t>(axes[k])]) + " " +
+           range_text(ranges[k]) + " x " + std::to_string(points[k]);
   return out;
 }
 

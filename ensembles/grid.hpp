@@ -13,9 +13,9 @@ namespace qmaps {
 
 // A regular grid over some of the four coordinates (the others untouched), as above.
 struct Lattice {
-  std::vector<int> axes;                         // coordinate indices, slowest first
-  std::vector<std::array<double, 2>> ranges;     // per axis
-  std::vector<std::size_t> points;               // per axis, ≥ 1
+  std::vector<int> axes;                      // coordinate indices, slowest first
+  std::vector<std::array<double, 2>> ranges;  // per axis
+  std::vector<std::size_t> points;            // per axis, ≥ 1
   // Reads `points` ([ensemble] n, or [n1, …], one per axis; each > 0) and each axis's range.
   static Lattice from_config(const Config& config, std::vector<int> axes);
   std::size_t size() const;

@@ -24,7 +24,8 @@ std::string g(double x) {
 std::string histogram_text(const h5::Group& h, const std::string& counts) {
   std::string text;
   const auto shape = h.shape(counts);
-  for (std::size_t k = 0; k < shape.size(); ++k) text += (k ? " x " : "") + std::to_string(shape[k]);
+  for (std::size_t k = 0; k < shape.size(); ++k)
+    text += (k ? " x " : "") + std::to_string(shape[k]);
   text += " bins over " + h.attr_string("x");
   if (h.has_attr("y")) text += " x " + h.attr_string("y");
   return text + ", " + std::to_string(h.attr_int64("samples")) + " samples (" +
@@ -39,8 +40,8 @@ int info_command(const std::string& path, std::ostream& out) {
   const auto root = file.root();
   for (const char* needed : {"schema_version", "map", "orbits", "steps"})
     if (!root.has_attr(needed))
-      throw Error(ExitCode::io, "'" + path + "' is not a qmaps output file (no attribute '" +
-                                    needed + "')");
+      throw Error(ExitCode::io,
+                  "'" + path + "' is not a qmaps output file (no attribute '" + needed + "')");
   out << "file:       " << path << " (schema " << root.attr_int64("schema_version") << ")\n";
   out << "map:        " << root.attr_string("map") << " (";
   bool first = true;

@@ -28,7 +28,7 @@ Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
       const Drawn d = kind.draw(static_cast<std::size_t>(i));
       g.points[static_cast<std::size_t>(i)] = d.point;
       rejected += d.rejected;
-    } catch (const Error&) {
+    } catch (const std::exception&) {  // rethrown below, outside the parallel region
 #pragma omp critical(qmaps_generate_failed)
       failed = std::min(failed, static_cast<std::size_t>(i));
     }
@@ -41,11 +41,16 @@ Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
 InitialConditions InitialConditions::from_config(const Config& config, const Model& model) {
   InitialConditions ic;
   ic.kind_ = config.string_or("ensemble", "kind", "box");
-  if (ic.kind_ == "box") ic.generator_ = std::make_shared<Box>(config);
-  else if (ic.kind_ == "grid") ic.generator_ = std::make_shared<Grid>(config);
-  else if (ic.kind_ == "shell") ic.generator_ = std::make_shared<Shell>(config, model.continuous());
-  else if (ic.kind_ == "line") ic.generator_ = std::make_shared<Line>(config);
-  else if (ic.kind_ == "file") ic.generator_ = std::make_shared<FromFile>(config, model);
+  if (ic.kind_ == "box")
+    ic.generator_ = std::make_shared<Box>(config);
+  else if (ic.kind_ == "grid")
+    ic.generator_ = std::make_shared<Grid>(config);
+  else if (ic.kind_ == "shell")
+    ic.generator_ = std::make_shared<Shell>(config, model.continuous());
+  else if (ic.kind_ == "line")
+    ic.generator_ = std::make_shared<Line>(config);
+  else if (ic.kind_ == "file")
+    ic.generator_ = std::make_shared<FromFile>(config, model);
   else
     throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + ic.kind_ +
                       "' (known: " + kinds + ")");

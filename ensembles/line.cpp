@@ -25,7 +25,8 @@ Line::Line(const Config& config) : orbits_(orbits_of(config)) {
 }
 
 Drawn Line::draw(std::size_t orbit) const {
-  const double t = orbits_ == 1 ? 0.0 : static_cast<double>(orbit) / static_cast<double>(orbits_ - 1);
+  const double t =
+      orbits_ == 1 ? 0.0 : static_cast<double>(orbit) / static_cast<double>(orbits_ - 1);
   std::array<double, 4> x;
   for (std::size_t k = 0; k < 4; ++k) x[k] = std::lerp(from_[k], to_[k], t);
   return {as_phase(x)};

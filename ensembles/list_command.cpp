@@ -16,7 +16,8 @@ int list_command(std::ostream& out) {
     out << "  invariants: " << m.invariant_summary << '\n';
     out << "  parameters:\n";
     for (const auto& p : m.params) {
-      const std::string given = !std::isnan(p.default_value) ? "default " + number_text(p.default_value)
+      const std::string given = !std::isnan(p.default_value)
+                                    ? "default " + number_text(p.default_value)
                                 : p.optional ? "optional"
                                              : "required";
       out << "    " << p.name << std::string(p.name.size() < 8 ? 8 - p.name.size() : 1, ' ')

@@ -40,18 +40,24 @@ int main(int argc, char** argv) {
   app.add_subcommand("list", "every map: parameters (meaning, default), invariants, equations");
 
   std::string info_path;
-  auto* info_cmd = app.add_subcommand("info", "what a qmaps HDF5 file holds: map, orbits, drift, observers");
+  auto* info_cmd =
+      app.add_subcommand("info", "what a qmaps HDF5 file holds: map, orbits, drift, observers");
   info_cmd->add_option("file", info_path, "HDF5 file written by qmaps run")->required();
 
   qmaps::CheckOptions check;
-  auto* check_cmd = app.add_subcommand("check", "integrability report: invariant drift and reversibility");
+  auto* check_cmd =
+      app.add_subcommand("check", "integrability report: invariant drift and reversibility");
   check_cmd->add_option("--map", check.map, "map name")->required();
-  check_cmd->add_option("--set", check.sets, "a map parameter: name=value (repeatable; defaults "
-                                             "A=0.7 B=0.3 alpha=0.9 h=0.1 ...)");
-  check_cmd->add_option("--orbits", check.orbits, "orbits in the random box")->capture_default_str();
-  check_cmd->add_option("--steps", check.steps, "steps forward (and as many back)")->capture_default_str();
+  check_cmd->add_option("--set", check.sets,
+                        "a map parameter: name=value (repeatable; defaults "
+                        "A=0.7 B=0.3 alpha=0.9 h=0.1 ...)");
+  check_cmd->add_option("--orbits", check.orbits, "orbits in the random box")
+      ->capture_default_str();
+  check_cmd->add_option("--steps", check.steps, "steps forward (and as many back)")
+      ->capture_default_str();
   check_cmd->add_option("--seed", check.seed, "seed of the box")->capture_default_str();
-  check_cmd->add_option("--box", check.box, "orbits uniform in [-box, box]^4")->capture_default_str();
+  check_cmd->add_option("--box", check.box, "orbits uniform in [-box, box]^4")
+      ->capture_default_str();
   check_cmd->add_option("--escape-bound", check.escape_bound, "escape when |q| exceeds this")
       ->capture_default_str();
 

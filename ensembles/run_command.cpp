@@ -125,10 +125,9 @@ int run_command(const RunOptions& options, std::ostream& log) {
   const double seconds = seconds_since(t0);
 
   RunRecord record{*model, ensemble, initial, plan, x, initial_conditions.kind(),
-                   initial_conditions.seed(), start,
-                   config.text(), config.resolved(), options.command_line, started, utc_now(),
-                   &observers, image ? &*image : nullptr, initial_conditions.description(),
-                   rejected};
+                   initial_conditions.seed(), start, config.text(), config.resolved(),
+                   options.command_line, started, utc_now(), &observers,
+                   image ? &*image : nullptr, initial_conditions.description(), rejected};
   write_run(file.root(), record);
   file.close();
   output.commit();

@@ -62,6 +62,7 @@ Shell::Shell(const Config& config, const Potential& potential) : potential_(pote
     const long long cap = config.integer_or("ensemble", "max_draws", 1000);
     if (cap <= 0) throw usage_error(config.where("ensemble", "max_draws") + " must be > 0");
     max_draws_ = static_cast<std::uint64_t>(cap);
+    draw(0);  // fails now, before anything is written, when no draw reaches the surface
     return;
   }
   if (config.has("ensemble", "orbits"))
@@ -77,8 +78,8 @@ Shell::Shell(const Config& config, const Potential& potential) : potential_(pote
   rejected_up_front_ = n - accepted_.size();
   orbits_ = accepted_.size();
   if (orbits_ == 0)
-    throw usage_error(energy_where_ + ": no point of the grid lies on H = " +
-                      number_text(energy_) + " (is E below the potential over the ranges?)");
+    throw usage_error(energy_where_ + ": no point of the grid lies on H = " + number_text(energy_) +
+                      " (is E below the potential over the ranges?)");
 }
 
 std::optional<Phase> Shell::solve(std::array<double, 4> x) const {
@@ -119,21 +120,20 @@ Drawn Shell::draw(std::size_t orbit) const {
     }
     if (const auto point = solve(x)) return {*point, k};
   }
-  throw usage_error(energy_where_ + ": orbit " + std::to_string(orbit) +
-                    " found no point of H = " + number_text(energy_) + " in " +
-                    std::to_string(max_draws_) +
+  throw usage_error(energy_where_ + ": orbit " + std::to_string(orbit) + " found no point of H = " +
+                    number_text(energy_) + " in " + std::to_string(max_draws_) +
                     " draws (max_draws): do the ranges reach the energy surface? (is E below "
                     "the potential's minimum over them?)");
 }
 
 std::string Shell::description() const {
   const auto name = std::string(phase_names[static_cast<std::size_t>(solve_)]);
-  std::string text = "shell: " + std::to_string(orbits_) + " orbits on H = " +
-                     number_text(energy_) + " of (A, B, alpha, beta, delta) = (" +
-                     number_text(potential_.A) + ", " + number_text(potential_.B) + ", " +
-                     number_text(potential_.alpha) + ", " + number_text(potential_.beta) + ", " +
-                     number_text(potential_.delta) + "), " + name + (sign_ > 0 ? " >= 0" : " <= 0") +
-                     " solved from H = E, ";
+  std::string text = "shell: " + std::to_string(orbits_) +
+                     " orbits on H = " + number_text(energy_) +
+                     " of (A, B, alpha, beta, delta) = (" + number_text(potential_.A) + ", " +
+                     number_text(potential_.B) + ", " + number_text(potential_.alpha) + ", " +
+                     number_text(potential_.beta) + ", " + number_text(potential_.delta) + "), " +
+                     name + (sign_ > 0 ? " >= 0" : " <= 0") + " solved from H = E, ";
   if (lattice_) return text + "grid " + lattice_->text();
   for (std::size_t k = 0; k < 4; ++k)
     if (static_cast<int>(k) != solve_)

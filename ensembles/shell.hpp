@@ -44,16 +44,16 @@ class Shell final : public EnsembleKind {
  private:
   Potential potential_;
   double energy_;
-  int solve_;                                   // 0 q1, 1 q2, 2 p1, 3 p2
-  double sign_;                                 // +1 or −1
+  int solve_;    // 0 q1, 1 q2, 2 p1, 3 p2
+  double sign_;  // +1 or −1
   std::array<std::array<double, 2>, 4> ranges_{};
   bool random_;
   std::uint64_t seed_ = 0, max_draws_ = 0;
-  std::optional<Lattice> lattice_;              // grid sampling
-  std::vector<std::uint64_t> accepted_;         // grid: lattice indices of the orbits
+  std::optional<Lattice> lattice_;       // grid sampling
+  std::vector<std::uint64_t> accepted_;  // grid: lattice indices of the orbits
   std::uint64_t rejected_up_front_ = 0;
   std::size_t orbits_ = 0;
-  std::string energy_where_;                    // for the error at the draw cap
+  std::string energy_where_;  // for the error at the draw cap
 };
 
 }  // namespace qmaps

@@ -297,7 +297,6 @@ TEST_F(Cli, OrbitBadInputIsRejected) {
   EXPECT_TRUE(Contains(missing.err, "parameter 'B' is missing"));
 }
 
-
 // ---- ensemble kinds: bad input ---------------------------------------------------------------
 
 namespace kinds {
@@ -308,12 +307,15 @@ std::string with_ensemble(const std::string& config, const std::string& ensemble
   return config.substr(0, begin) + "[ensemble]\n" + ensemble + "\n" + config.substr(end);
 }
 
-const std::string kShell = "kind = \"shell\"\nenergy = 0.2\norbits = 50\nq1 = [-0.5, 0.5]\n"
-                           "q2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\n";
-const std::string kGrid = "kind = \"grid\"\naxes = [\"q1\", \"p1\"]\npoints = [4, 4]\n"
-                          "q1 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\nq2 = 0.1\np2 = 0.0\n";
-const std::string kLine = "kind = \"line\"\norbits = 5\nfrom = [0.0, 0.0, 0.0, 0.0]\n"
-                          "to = [0.5, 0.0, 0.0, 0.5]\n";
+const std::string kShell =
+    "kind = \"shell\"\nenergy = 0.2\norbits = 50\nq1 = [-0.5, 0.5]\n"
+    "q2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\n";
+const std::string kGrid =
+    "kind = \"grid\"\naxes = [\"q1\", \"p1\"]\npoints = [4, 4]\n"
+    "q1 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\nq2 = 0.1\np2 = 0.0\n";
+const std::string kLine =
+    "kind = \"line\"\norbits = 5\nfrom = [0.0, 0.0, 0.0, 0.0]\n"
+    "to = [0.5, 0.0, 0.0, 0.5]\n";
 
 }  // namespace kinds
 
@@ -329,8 +331,8 @@ TEST_F(Cli, EveryEnsembleKindRunsAndTheShellReportsItsRejections) {
 
 TEST_F(Cli, BadEnsembleOfEveryKindIsRejectedWithoutOutput) {
   using kinds::with_ensemble;
-  const auto rejected = [&](const std::string& ensemble, std::vector<std::string> extra,
-                            int code, const std::vector<std::string>& parts) {
+  const auto rejected = [&](const std::string& ensemble, std::vector<std::string> extra, int code,
+                            const std::vector<std::string>& parts) {
     const std::string text = with_ensemble(config, ensemble);
     expect_rejected(run_config(text, extra), code, parts);
   };
@@ -396,7 +398,8 @@ TEST_F(Cli, BadEnsembleOfEveryKindIsRejectedWithoutOutput) {
 }
 
 TEST_F(Cli, SetReachesArraysOfTablesInRun) {
-  const std::string histogram = "\n[[histogram]]\nname = \"h\"\nx = \"q1\"\nx_range = [-1.0, 1.0]\n";
+  const std::string histogram =
+      "\n[[histogram]]\nname = \"h\"\nx = \"q1\"\nx_range = [-1.0, 1.0]\n";
   const Result r = run_config(config + histogram, {"--set", "histogram[0].bins=7"});
   ASSERT_EQ(r.status, 0) << r.err;
   const Result info = run({"info", output}, dir);
@@ -413,12 +416,13 @@ TEST_F(Cli, SetReachesArraysOfTablesInRun) {
 TEST_F(Cli, ListPrintsEveryMapWithParametersInvariantsAndEquations) {
   const Result r = run({"list"}, dir);
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* map : {"suris:", "case2:", "case2-staggered:", "case2-hky:", "case3:", "flow:",
-                          "leapfrog:"})
+  for (const char* map :
+       {"suris:", "case2:", "case2-staggered:", "case2-hky:", "case3:", "flow:", "leapfrog:"})
     EXPECT_TRUE(Contains(r.out, std::string("\n") + map) || r.out.rfind(map, 0) == 0) << map;
   for (const char* part :
        {"invariants: H, I1, I2 (A != B); H, L (A = B)", "(disc-hamilton2)", "(discrete-case2-2)",
-        "(levi)", "t_order", "(default 2)", "order   order of the composition: 2, 4, 6 or 8 (default 8)",
+        "(levi)", "t_order", "(default 2)",
+        "order   order of the composition: 2, 4, 6 or 8 (default 8)",
         "h       time step, > 0 (required)", "gamma11", "(optional)", "invariants: I_1, I_2"})
     EXPECT_TRUE(Contains(r.out, part));
 }
@@ -439,10 +443,10 @@ TEST_F(Cli, InfoSummarisesARun) {
       std::to_string(root.open_group("sections").open_group("up").attr_int64("crossings"));
   for (const std::string& part : std::vector<std::string>{
            "map:        suris (A = 0.7, B = 0.3, alpha = 0.9, h = 0.1)\n",
-        "ensemble:   box: 100 orbits uniform in", "orbits:     100, steps 50, start taylor",
-        "escaped:    " + escaped + " (" + escaped + " beyond bound)\n", "  H     worst ",
-        "  I1    worst ", "  I2    worst ", "q1q2: 8 x 4 bins over q1 x q2",
-        "up: q1 = 0 (+, iterate), " + crossings + " crossings"})
+           "ensemble:   box: 100 orbits uniform in", "orbits:     100, steps 50, start taylor",
+           "escaped:    " + escaped + " (" + escaped + " beyond bound)\n", "  H     worst ",
+           "  I1    worst ", "  I2    worst ", "q1q2: 8 x 4 bins over q1 x q2",
+           "up: q1 = 0 (+, iterate), " + crossings + " crossings"})
     EXPECT_TRUE(Contains(r.out, part));
   EXPECT_NE(escaped, "0") << "a bound of 0.6 lets some orbits escape";
 }
@@ -474,7 +478,8 @@ TEST_F(Cli, CheckReportsDriftPercentilesAndReversibility) {
        {"map suris (A = 0.7, B = 0.3, alpha = 0.9, h = 0.1): 200 orbits uniform in [-0.5, 0.5]^4 "
         "(seed 1), 300 steps, 0 escaped",
         "invariant     median        90%        99%      worst", "\n  H    ", "\n  I1   ",
-        "\n  I2   ", "reversibility: 300 steps forward, reversed, 300 back: max |(q, p) - (q0, p0)| = "})
+        "\n  I2   ",
+        "reversibility: 300 steps forward, reversed, 300 back: max |(q, p) - (q0, p0)| = "})
     EXPECT_TRUE(Contains(r.out, part));
   // The worst drift and the reversibility error of an integrable map are round-off.
   std::istringstream in(r.out.substr(r.out.find("\n  H ")));

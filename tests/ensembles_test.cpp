@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,9 +49,8 @@ void expect_independent_of_threads(const EnsembleKind& kind) {
   for (const auto& [threads, chunk] : {std::pair{2, 7}, std::pair{2, 1000}, std::pair{3, 1}}) {
     const Generated other = generate(kind, threads, static_cast<std::size_t>(chunk));
     ASSERT_EQ(other.points.size(), one.points.size());
-    EXPECT_EQ(std::memcmp(other.points.data(), one.points.data(),
-                          one.points.size() * sizeof(Phase)),
-              0)
+    EXPECT_EQ(
+        std::memcmp(other.points.data(), one.points.data(), one.points.size() * sizeof(Phase)), 0)
         << threads << " threads, chunks of " << chunk;
     EXPECT_EQ(other.rejected, one.rejected);
   }
@@ -180,7 +180,8 @@ TEST(Shell, PointsLieOnTheEnergySurfaceToleranceTest) {
       {"case2", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}}},
       {"case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}}},
       {"flow", {{"A", 0.5}, {"B", 2.0}, {"alpha", 0.5}, {"beta", 4.0}, {"delta", 3.0}, {"h", 0.1}}},
-      {"flow", {{"A", -0.5}, {"B", 0.2}, {"alpha", 0.3}, {"beta", 0.4}, {"delta", 0.1}, {"h", 0.1}}}};
+      {"flow",
+       {{"A", -0.5}, {"B", 0.2}, {"alpha", 0.3}, {"beta", 0.4}, {"delta", 0.1}, {"h", 0.1}}}};
   int points = 0;
   for (const auto& [name, params] : maps) {
     const auto model = make_model(name, params);
@@ -207,8 +208,10 @@ TEST(Shell, ContinuousSystemOfEachMapIsItsCase) {
   EXPECT_EQ(case3.B, 4 * 0.7);
   EXPECT_EQ(case3.beta, 16 * 0.9);
   EXPECT_EQ(case3.delta, 12 * 0.9);
-  const auto case2 = make_model("case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1},
-                                              {"gamma11", 0.6}, {"gamma21", 0.3}})->continuous();
+  const auto case2 =
+      make_model("case2-hky",
+                 {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}})
+          ->continuous();
   EXPECT_EQ(case2.B, 0.7);
   EXPECT_EQ(case2.delta, 6 * 0.9);
   const auto suris = suris_model()->continuous();
@@ -218,16 +221,53 @@ TEST(Shell, ContinuousSystemOfEachMapIsItsCase) {
 
 TEST(Shell, EnergyBelowThePotentialIsRejectedNamingTheKey) {
   const auto model = suris_model();
-  const auto ic = kind_of(
-      "kind = \"shell\"\nenergy = -0.1\norbits = 10\nq1 = [-0.6, 0.6]\nq2 = [-0.6, 0.6]\n"
-      "p1 = [-0.6, 0.6]\nmax_draws = 50\n",
-      *model);
   try {
-    generate(ic.generator(), 2, 1);
+    kind_of(
+        "kind = \"shell\"\nenergy = -0.1\norbits = 10\nq1 = [-0.6, 0.6]\nq2 = [-0.6, 0.6]\n"
+        "p1 = [-0.6, 0.6]\nmax_draws = 50\n",
+        *model);
     FAIL() << "no point can lie on H = -0.1";
   } catch (const Error& e) {
     EXPECT_TRUE(Contains(e.what(), "test.toml:"));
     EXPECT_TRUE(Contains(e.what(), "[ensemble] energy: orbit 0 found no point of H = -0.1 in 50"));
+  }
+}
+
+// An orbit past the first that reaches the cap fails the whole generation with its own index,
+// the lowest such, whatever the threads.
+TEST(Shell, TheLowestOrbitThatReachesTheCapIsNamed) {
+  const auto model = suris_model();
+  // E = 0.05: most draws miss, so with max_draws = 2 some orbits fail; the
+  // first seed whose orbit 0 succeeds (checked when the kind is made) is used.
+  std::optional<InitialConditions> made;
+  for (int seed = 1; !made && seed < 100; ++seed) {
+    try {
+      made = kind_of("kind = \"shell\"\nenergy = 0.05\norbits = 400\nseed = " +
+                         std::to_string(seed) +
+                         "\nq1 = [-0.5, 0.5]\nq2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\nmax_draws = 2\n",
+                     *model);
+    } catch (const Error&) {
+    }
+  }
+  ASSERT_TRUE(made);
+  const InitialConditions& ic = *made;
+  std::size_t first = 0;
+  while (true) {
+    try {
+      ic.generator().draw(first);
+      ++first;
+    } catch (const Error&) {
+      break;
+    }
+  }
+  ASSERT_LT(first, 400u);
+  for (int threads : {1, 2}) {
+    try {
+      generate(ic.generator(), threads, 1);
+      FAIL() << "orbit " << first << " cannot be drawn";
+    } catch (const Error& e) {
+      EXPECT_TRUE(Contains(e.what(), "orbit " + std::to_string(first) + " found no point"));
+    }
   }
 }
 
@@ -257,8 +297,9 @@ class FromFileTest : public ::testing::Test {
   }
 };
 
-const std::string kBox = "kind = \"box\"\norbits = 37\nseed = 2\nq1 = [-0.5, 0.5]\n"
-                         "q2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\np2 = [-0.5, 0.5]\n";
+const std::string kBox =
+    "kind = \"box\"\norbits = 37\nseed = 2\nq1 = [-0.5, 0.5]\n"
+    "q2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\np2 = [-0.5, 0.5]\n";
 
 TEST_F(FromFileTest, ContinuingTheFinalStateEqualsTheLongerRunBitForBit) {
   const std::string case3 = "[map]\nname = \"case3\"\nA = 0.7\nalpha = 0.9\nds = 0.1\n";
@@ -267,8 +308,9 @@ TEST_F(FromFileTest, ContinuingTheFinalStateEqualsTheLongerRunBitForBit) {
     run_ok(config(map, kBox, 30, "first.h5"));
     run_ok(config(map, "kind = \"file\"\npath = \"first.h5\"\n", 40, "second.h5"),
            {"--threads", "1"});
-    const auto model = map == kSuris ? suris_model()
-                                     : make_model("case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}});
+    const auto model = map == kSuris
+                           ? suris_model()
+                           : make_model("case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}});
     const auto a = state("long.h5", *model), b = state("second.h5", *model);
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t k = 0; k < a.size(); ++k)
@@ -279,8 +321,9 @@ TEST_F(FromFileTest, ContinuingTheFinalStateEqualsTheLongerRunBitForBit) {
     const auto ic = InitialConditions::from_config(file_config, *model);
     expect_independent_of_threads(ic.generator());
     const auto f = h5::File::open_read(dir / "second.h5");
-    EXPECT_TRUE(Contains(f.root().attr_string("ensemble_description"),
-                         "file: 37 orbits of 'first.h5', continued from its final state (step 30)"));
+    EXPECT_TRUE(
+        Contains(f.root().attr_string("ensemble_description"),
+                 "file: 37 orbits of 'first.h5', continued from its final state (step 30)"));
   }
 }
 
