@@ -33,7 +33,8 @@ class ModelOf final : public Model {
                        [&](std::size_t i) { return Map::from_phase_space(c_, initial[i], rule); });
   }
 
-  Ensemble resume(std::span<const std::vector<double>> state, double escape_bound) const override {
+  Ensemble start_from_state(std::span<const std::vector<double>> state,
+                            double escape_bound) const override {
     if (state.size() != Map::state_names.size())
       throw usage_error(std::string(Map::name) + ": a state has " +
                         std::to_string(Map::state_names.size()) + " components, not " +

@@ -92,9 +92,9 @@ Drawn FromFile::draw(std::size_t orbit) const {
   return {model_.phase_of(state)};
 }
 
-std::optional<Ensemble> FromFile::resume(double escape_bound) const {
+std::optional<Ensemble> FromFile::continued(double escape_bound) const {
   if (!final_) return std::nullopt;
-  Ensemble e = model_.resume(columns_, escape_bound);
+  Ensemble e = model_.start_from_state(columns_, escape_bound);
   for (std::size_t i = 0; i < orbits_; ++i)
     if (escape_step_[i] >= 0) {
       e.escape_step[i] = 0;

@@ -23,7 +23,7 @@ class FromFile final : public EnsembleKind {
   Drawn draw(std::size_t orbit) const override;
   std::string description() const override;
   // group = "final": the ensemble in the file's states, its escaped orbits escaped.
-  std::optional<Ensemble> resume(double escape_bound) const;
+  std::optional<Ensemble> continued(double escape_bound) const;
 
  private:
   const Model& model_;

@@ -61,7 +61,7 @@ Started InitialConditions::start(const Model& model, Start rule, double escape_b
                                  int threads) const {
   Generated g = generate(*generator_, threads);
   if (const auto* file = dynamic_cast<const FromFile*>(generator_.get()))
-    if (auto e = file->resume(escape_bound))
+    if (auto e = file->continued(escape_bound))
       return {std::move(*e), std::move(g.points), g.rejected};
   Ensemble e = model.start(g.points, rule, escape_bound);
   return {std::move(e), std::move(g.points), g.rejected};
