@@ -3,15 +3,13 @@
 // that runs on from wherever the last iteration stopped.
 #include "core/model.hpp"
 #include "ensembles/box.hpp"
+#include "ensembles/initial_conditions.hpp"
 
 namespace qmaps {
 
 inline Ensemble bench_ensemble(const Model& model, std::size_t orbits) {
-  Box box;
-  box.orbits = orbits;
-  box.seed = 1;
-  box.ranges = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
-  return model.start(box.points(), Start::taylor, 1e8);
+  const Box box({{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}}, 1, orbits);
+  return model.start(generate(box).points, Start::taylor, 1e8);
 }
 
 // The next `steps` steps of e, invariants tracked or not.

@@ -82,10 +82,33 @@ void Config::set(std::string_view assignment) {
   } catch (const toml::parse_error&) {
     parsed = toml::table{{"v", value}};
   }
-  auto* target = table_[section].as_table();
+  toml::table* target = nullptr;
+  if (const auto open = section.find('['); open != std::string::npos) {  // "name[i]": [[name]] i
+    const std::string name = section.substr(0, open);
+    auto* array = table_[name].as_array();
+    const std::string index_text = section.substr(open + 1, section.size() - open - 2);
+    std::size_t used = 0;
+    std::size_t index = 0;
+    try {
+      index = std::stoul(index_text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (section.back() != ']' || used == 0 || used != index_text.size())
+      throw usage_error("--set " + section + "." + key + ": expected " + name + "[index]");
+    if (!array || !array->is_array_of_tables() || index >= array->size())
+      throw usage_error("--set " + section + "." + key + ": there is no [[" + name + "]] number " +
+                        index_text + " (tables are counted from 0; the config has " +
+                        std::to_string(array ? array->size() : 0) + ")");
+    target = (*array)[index].as_table();
+  } else {
+    target = table_[section].as_table();
+  }
   if (!target) {
     if (table_.contains(section))
-      throw usage_error("--set " + section + "." + key + ": '" + section + "' is not a section");
+      throw usage_error("--set " + section + "." + key + ": '" + section +
+                        "' is an array of tables [[" + section + "]]: name one as " + section +
+                        "[i]." + key + " (i from 0)");
     table_.insert(section, toml::table{});
     target = table_[section].as_table();
   }
@@ -183,6 +206,33 @@ std::array<double, 2> Config::range(std::string_view section, std::string_view k
     throw usage_error(where(section, key) + " is an empty range: lo > hi (" +
                       number_text(lo) + " > " + number_text(hi) + ")");
   return {lo, hi};
+}
+
+std::vector<double> Config::numbers(std::string_view section, std::string_view key,
+                                    std::size_t count) const {
+  const auto* a = node(section, key).as_array();
+  std::vector<double> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_number() && std::isfinite(*item.value<double>()))
+        out.push_back(*item.value<double>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " finite numbers");
+  return out;
+}
+
+std::vector<std::string> Config::strings(std::string_view section, std::string_view key,
+                                         std::size_t count) const {
+  const auto* a = node(section, key).as_array();
+  std::vector<std::string> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_string()) out.push_back(*item.value<std::string>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " strings");
+  return out;
 }
 
 std::vector<std::int64_t> Config::range_or_integer(std::string_view section,

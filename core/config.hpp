@@ -22,7 +22,8 @@ class Config {
   static Config load(const std::string& path);  // throws an io error for an unreadable file
 
   // "section.key=value": value is read as a TOML value (number, string, array, boolean), and
-  // as a bare string when it is not one, so --set output.file=run.h5 needs no quotes.
+  // as a bare string when it is not one, so --set output.file=run.h5 needs no quotes. The section
+  // "name[i]" is the i-th table (from 0) of an array of tables [[name]], e.g. histogram[0].bins.
   void set(std::string_view assignment);
 
   bool has(std::string_view section, std::string_view key) const;
@@ -35,6 +36,12 @@ class Config {
   std::string string_or(std::string_view section, std::string_view key, std::string fallback) const;
   // [lo, hi] with lo ≤ hi, both finite; a single number x means [x, x].
   std::array<double, 2> range(std::string_view section, std::string_view key) const;
+  // An array of `count` finite numbers (e.g. a phase-space point [q1, q2, p1, p2]).
+  std::vector<double> numbers(std::string_view section, std::string_view key,
+                              std::size_t count) const;
+  // An array of `count` strings (e.g. axes = ["q1", "p1"]).
+  std::vector<std::string> strings(std::string_view section, std::string_view key,
+                                   std::size_t count) const;
   // An integer n, or an array of integers (e.g. bins = [nx, ny]).
   std::vector<std::int64_t> range_or_integer(std::string_view section, std::string_view key) const;
   // Every key of a section (each is then marked used).

@@ -4,11 +4,13 @@
 // only, so the scalar reference and every SIMD path compute the same bits.
 //
 //   name, summary                 its `--map` name and a one-line description
+//   equations, invariant_summary  the paper's equation labels it implements; its invariants
 //   params                        std::array<ParamSpec, N>: names, meanings, defaults
 //   state_names                   std::array<std::string_view, S>: the state components
 //   State<V>                      std::array<V, S>
 //   max_invariants                the most invariants it reports
 //   Coeffs coefficients(values)   validated coefficients, computed once (throws usage_error)
+//   continuous(c)                 the Potential (A, B, α, β, δ) of the system it discretizes
 //   invariant_names(c)            the invariants these parameters have
 //   step<V>(c, s)                 advances the state one step in place; a map that solves an
 //                                 equation returns a V: 0 where it succeeded, else an
@@ -30,6 +32,7 @@
 
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 
 namespace qmaps {
 
@@ -38,10 +41,13 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
                              const Phase& x, std::span<const double> values, double* out) {
   { M::name } -> std::convertible_to<std::string_view>;
   { M::summary } -> std::convertible_to<std::string_view>;
+  { M::equations } -> std::convertible_to<std::string_view>;
+  { M::invariant_summary } -> std::convertible_to<std::string_view>;
   { M::params.size() } -> std::convertible_to<std::size_t>;
   { M::state_names.size() } -> std::convertible_to<std::size_t>;
   { M::max_invariants } -> std::convertible_to<std::size_t>;
   { M::coefficients(values) } -> std::same_as<typename M::Coeffs>;
+  { M::continuous(c) } -> std::same_as<Potential>;
   { M::invariant_names(c) } -> std::same_as<std::vector<std::string>>;
   M::step(c, s);
   { M::escape_measure(s) } -> std::same_as<double>;

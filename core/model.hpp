@@ -13,6 +13,7 @@
 #include "core/observers.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 #include "core/run_plan.hpp"
 
 namespace qmaps {
@@ -36,11 +37,19 @@ class Model {
   // The ensemble that starts at these phase-space points (orbits whose start is already beyond
   // the bound or non-finite are escaped at step 0), with its invariants' initial values.
   virtual Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const = 0;
+  // The ensemble whose orbit i is in the state (state[0][i], state[1][i], …), components in the
+  // order of state_names(), e.g. the /final/state of an earlier run; the same escape test.
+  virtual Ensemble start_from_state(std::span<const std::vector<double>> state,
+                                    double escape_bound) const = 0;
+  // The continuous system the map discretizes: its (A, B, α, β, δ).
+  virtual Potential continuous() const = 0;
   // Advances from plan.first to plan.last; the samples of the orbits go into `observers`.
   virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                        Observers* observers = nullptr) const = 0;
 
   virtual Phase phase(const Ensemble& e, std::size_t orbit) const = 0;
+  // The phase point of one state (components in the order of state_names()).
+  virtual Phase phase_of(std::span<const double> state) const = 0;
   virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;
   // Physical time of the orbit's current node (the same for every orbit unless
   // time_per_orbit()).

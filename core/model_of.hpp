@@ -29,24 +29,24 @@ class ModelOf final : public Model {
   const typename Map::Coeffs& coeffs() const { return c_; }
 
   Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const override {
-    Ensemble e(initial.size(), Map::state_names.size(), invariant_names_.size());
-    for (std::size_t i = 0; i < initial.size(); ++i) {
-      const auto s = Map::from_phase_space(c_, initial[i], rule);
-      for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
-      if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
-        e.escape_step[i] = 0;
-        e.escape_reason[i] = escape_reason(0, s);
-      }
-      double values[Map::max_invariants];
-      Map::invariants(c_, s, values);
-      for (std::size_t k = 0; k < invariant_names_.size(); ++k) {
-        e.invariant_initial[k][i] = values[k];
-        e.invariant_max_drift[k][i] = 0;
-      }
-    }
-    e.fill_padding();
-    return e;
+    return ensemble_of(initial.size(), escape_bound,
+                       [&](std::size_t i) { return Map::from_phase_space(c_, initial[i], rule); });
   }
+
+  Ensemble start_from_state(std::span<const std::vector<double>> state,
+                            double escape_bound) const override {
+    if (state.size() != Map::state_names.size())
+      throw usage_error(std::string(Map::name) + ": a state has " +
+                        std::to_string(Map::state_names.size()) + " components, not " +
+                        std::to_string(state.size()));
+    return ensemble_of(state.front().size(), escape_bound, [&](std::size_t i) {
+      typename Map::template State<double> s;
+      for (std::size_t k = 0; k < s.size(); ++k) s[k] = state[k][i];
+      return s;
+    });
+  }
+
+  Potential continuous() const override { return Map::continuous(c_); }
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
@@ -78,6 +78,12 @@ class ModelOf final : public Model {
   Phase phase(const Ensemble& e, std::size_t orbit) const override {
     return Map::to_phase_space(c_, state_of(e, orbit));
   }
+  Phase phase_of(std::span<const double> state) const override {
+    typename Map::template State<double> s;
+    if (state.size() != s.size()) throw usage_error("a state of the wrong size");
+    std::copy(state.begin(), state.end(), s.begin());
+    return Map::to_phase_space(c_, s);
+  }
   std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const override {
     double values[Map::max_invariants];
     Map::invariants(c_, state_of(e, orbit), values);
@@ -100,6 +106,29 @@ class ModelOf final : public Model {
  private:
   using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
                           const RunPlan&, Observers*);
+
+  // Orbits 0…n−1 in the states state_at(i): escaped at step 0 where already beyond the bound or
+  // non-finite, with their invariants' initial values.
+  template <class StateAt>
+  Ensemble ensemble_of(std::size_t n, double escape_bound, StateAt state_at) const {
+    Ensemble e(n, Map::state_names.size(), invariant_names_.size());
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto s = state_at(i);
+      for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
+      if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
+        e.escape_step[i] = 0;
+        e.escape_reason[i] = escape_reason(0, s);
+      }
+      double values[Map::max_invariants];
+      Map::invariants(c_, s, values);
+      for (std::size_t k = 0; k < invariant_names_.size(); ++k) {
+        e.invariant_initial[k][i] = values[k];
+        e.invariant_max_drift[k][i] = 0;
+      }
+    }
+    e.fill_padding();
+    return e;
+  }
 
   static typename Map::template State<double> state_of(const Ensemble& e, std::size_t orbit) {
     typename Map::template State<double> s;

@@ -1,6 +1,5 @@
 #include "ensembles/box.hpp"
 
-#include "core/error.hpp"
 #include "core/rng.hpp"
 
 namespace qmaps {
@@ -8,37 +7,27 @@ namespace {
 constexpr std::uint64_t box_stream = 0x626f78;  // "box"
 }
 
-Box Box::from_config(const Config& config) {
-  Box box;
-  const long long orbits = config.integer("ensemble", "orbits");
-  if (orbits <= 0)
-    throw usage_error(config.where("ensemble", "orbits") + " must be > 0 (got " +
-                      std::to_string(orbits) + ")");
-  box.orbits = static_cast<std::size_t>(orbits);
-  const long long seed = config.integer_or("ensemble", "seed", 0);
-  if (seed < 0) throw usage_error(config.where("ensemble", "seed") + " must be >= 0");
-  box.seed = static_cast<std::uint64_t>(seed);
-  const char* names[4] = {"q1", "q2", "p1", "p2"};
-  for (int k = 0; k < 4; ++k) box.ranges[k] = config.range("ensemble", names[k]);
-  return box;
+Box::Box(const Config& config) : seed_(seed_of(config)), orbits_(orbits_of(config)) {
+  for (int k = 0; k < 4; ++k)
+    ranges_[k] = config.range("ensemble", phase_names[static_cast<std::size_t>(k)]);
 }
 
-Phase Box::point(std::size_t orbit) const {
-  const auto u = OrbitRandom(seed, box_stream).uniform4(orbit);
-  double x[4];
+Drawn Box::draw(std::size_t orbit) const {
+  const auto u = OrbitRandom(seed_, box_stream).uniform4(orbit);
+  std::array<double, 4> x;
   for (int k = 0; k < 4; ++k) {
-    const auto [lo, hi] = ranges[k];
+    const auto [lo, hi] = ranges_[k];
     x[k] = lo == hi ? lo : lo + (hi - lo) * u[k];
   }
-  return {x[0], x[1], x[2], x[3]};
+  return {as_phase(x)};
 }
 
-std::vector<Phase> Box::points() const {
-  std::vector<Phase> out(orbits);
-  const long long n = static_cast<long long>(orbits);
-#pragma omp parallel for schedule(static)
-  for (long long i = 0; i < n; ++i) out[i] = point(static_cast<std::size_t>(i));
-  return out;
+std::string Box::description() const {
+  std::string text = "box: " + std::to_string(orbits_) + " orbits uniform in";
+  for (int k = 0; k < 4; ++k)
+    text += std::string(k ? "," : "") + " " + std::string(phase_names[k]) + " " +
+            range_text(ranges_[k]);
+  return text + ", seed " + std::to_string(seed_);
 }
 
 }  // namespace qmaps

@@ -1,6 +1,7 @@
 #include "ensembles/catalogue.hpp"
 
 #include <array>
+#include <optional>
 #include <string>
 
 #include "core/error.hpp"
@@ -16,7 +17,7 @@ namespace {
 
 template <class Map>
 MapEntry entry() {
-  return {Map::name, Map::summary, Map::params,
+  return {Map::name, Map::summary, Map::equations, Map::invariant_summary, Map::params,
           [](const ParamValues& p) -> std::unique_ptr<Model> {
             return std::make_unique<ModelOf<Map>>(p);
           }};
@@ -28,6 +29,30 @@ const std::array maps = {entry<kernels::Suris>(),  entry<kernels::Case2>(),
                          entry<kernels::Leapfrog>()};
 
 }  // namespace
+
+std::optional<double> number_in(const std::string& text) {
+  std::size_t used = 0;
+  try {
+    const double value = std::stod(text, &used);
+    if (used == text.size()) return value;
+  } catch (const std::exception&) {
+  }
+  return std::nullopt;
+}
+
+ParamValues parse_params(const std::vector<std::string>& sets) {
+  ParamValues params;
+  for (const auto& s : sets) {
+    const auto eq = s.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw usage_error("--set expects name=value, got '" + s + "'");
+    const std::string name = s.substr(0, eq), text = s.substr(eq + 1);
+    const auto value = number_in(text);
+    if (!value) throw usage_error("--set " + name + ": '" + text + "' is not a number");
+    params[name] = *value;
+  }
+  return params;
+}
 
 std::span<const MapEntry> catalogue() { return maps; }
 

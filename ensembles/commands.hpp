@@ -26,8 +26,21 @@ struct OrbitOptions {
   double escape_bound = 1e8;
 };
 
+struct CheckOptions {
+  std::string map;
+  std::vector<std::string> sets;  // "name=value" map parameters
+  long long orbits = 1000;
+  long long steps = 1000;
+  long long seed = 1;
+  double box = 0.5;               // orbits uniform in [−box, box]⁴
+  double escape_bound = 1e8;
+};
+
 // Each returns the process exit code; errors are thrown as qmaps::Error.
 int run_command(const RunOptions& options, std::ostream& log);
 int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& log);
+int list_command(std::ostream& out);
+int info_command(const std::string& path, std::ostream& out);
+int check_command(const CheckOptions& options, std::ostream& out);
 
 }  // namespace qmaps

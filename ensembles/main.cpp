@@ -37,6 +37,30 @@ int main(int argc, char** argv) {
   orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")
       ->capture_default_str();
 
+  app.add_subcommand("list", "every map: parameters (meaning, default), invariants, equations");
+
+  std::string info_path;
+  auto* info_cmd =
+      app.add_subcommand("info", "what a qmaps HDF5 file holds: map, orbits, drift, observers");
+  info_cmd->add_option("file", info_path, "HDF5 file written by qmaps run")->required();
+
+  qmaps::CheckOptions check;
+  auto* check_cmd =
+      app.add_subcommand("check", "integrability report: invariant drift and reversibility");
+  check_cmd->add_option("--map", check.map, "map name")->required();
+  check_cmd->add_option("--set", check.sets,
+                        "a map parameter: name=value (repeatable; defaults "
+                        "A=0.7 B=0.3 alpha=0.9 h=0.1 ...)");
+  check_cmd->add_option("--orbits", check.orbits, "orbits in the random box")
+      ->capture_default_str();
+  check_cmd->add_option("--steps", check.steps, "steps forward (and as many back)")
+      ->capture_default_str();
+  check_cmd->add_option("--seed", check.seed, "seed of the box")->capture_default_str();
+  check_cmd->add_option("--box", check.box, "orbits uniform in [-box, box]^4")
+      ->capture_default_str();
+  check_cmd->add_option("--escape-bound", check.escape_bound, "escape when |q| exceeds this")
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -49,7 +73,10 @@ int main(int argc, char** argv) {
       for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
       return qmaps::run_command(run, std::cerr);
     }
-    return qmaps::orbit_command(orbit, std::cout, std::cerr);
+    if (*orbit_cmd) return qmaps::orbit_command(orbit, std::cout, std::cerr);
+    if (*info_cmd) return qmaps::info_command(info_path, std::cout);
+    if (*check_cmd) return qmaps::check_command(check, std::cout);
+    return qmaps::list_command(std::cout);
   } catch (const qmaps::Error& e) {
     std::cerr << "qmaps: error: " << e.what() << '\n';
     return static_cast<int>(e.code());

@@ -11,31 +11,6 @@
 namespace qmaps {
 namespace {
 
-// The number that is the whole of `text`, if it is one.
-std::optional<double> number_in(const std::string& text) {
-  std::size_t used = 0;
-  try {
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  return std::nullopt;
-}
-
-ParamValues parse_params(const std::vector<std::string>& sets) {
-  ParamValues params;
-  for (const auto& s : sets) {
-    const auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw usage_error("--set expects name=value, got '" + s + "'");
-    const std::string name = s.substr(0, eq), text = s.substr(eq + 1);
-    const auto value = number_in(text);
-    if (!value) throw usage_error("--set " + name + ": '" + text + "' is not a number");
-    params[name] = *value;
-  }
-  return params;
-}
-
 Phase parse_ic(const std::string& text) {
   std::istringstream in(text);
   double x[4];

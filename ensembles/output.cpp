@@ -115,6 +115,8 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   if (!model.time_per_orbit()) root.attr("time", model.time(e, 0));
   root.attr("orbits", static_cast<std::int64_t>(n));
   root.attr("ensemble", run.ensemble_kind);
+  root.attr("ensemble_description", run.ensemble_description);
+  root.attr("rejected", static_cast<std::int64_t>(run.rejected));
   root.attr("seed", static_cast<std::int64_t>(run.seed));
   root.attr("start", std::string(start_name(run.start)));
   root.attr("stride", static_cast<std::int64_t>(run.plan.stride));

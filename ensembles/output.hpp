@@ -29,6 +29,8 @@ struct RunRecord {
   std::string started, finished;  // ISO 8601, UTC
   const Observers* observers = nullptr;
   const InvariantImage* image = nullptr;
+  std::string ensemble_description;  // what the initial conditions are, in one line
+  std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
 };
 
 // The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k:

@@ -8,9 +8,9 @@
 #include "core/config.hpp"
 #include "core/error.hpp"
 #include "core/h5.hpp"
-#include "ensembles/box.hpp"
 #include "ensembles/catalogue.hpp"
 #include "ensembles/commands.hpp"
+#include "ensembles/initial_conditions.hpp"
 #include "ensembles/output.hpp"
 
 namespace qmaps {
@@ -73,6 +73,12 @@ void advance_with_progress(const Model& model, Ensemble& e, const RunPlan& plan,
   log << '\n';
 }
 
+// ", 12 rejected" for a shell ensemble, which rejects points off its energy surface.
+std::string rejected_text(const std::string& kind, std::uint64_t rejected) {
+  if (kind != "shell") return "";
+  return ", " + std::to_string(rejected) + " rejected";
+}
+
 }  // namespace
 
 int run_command(const RunOptions& options, std::ostream& log) {
@@ -82,12 +88,8 @@ int run_command(const RunOptions& options, std::ostream& log) {
   if (!options.out.empty()) config.set("output.file=" + options.out);
 
   const auto model = map_of(config);
-  const std::string kind = config.string_or("ensemble", "kind", "box");
-  if (kind != "box")
-    throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + kind +
-                      "' (known: box)");
-  const Box box = Box::from_config(config);
-  check_memory(config, *model, box.orbits);
+  const auto initial_conditions = InitialConditions::from_config(config, *model);
+  check_memory(config, *model, initial_conditions.orbits());
   const Start start = parse_start(config.string_or("ensemble", "start", "taylor"));
 
   RunPlan plan;
@@ -106,7 +108,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
   if (x.chains != 1 && x.chains != 2 && x.chains != 4 && x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
-  Observers observers = observers_from_config(config, *model, box.orbits);
+  Observers observers = observers_from_config(config, *model, initial_conditions.orbits());
   const auto image = invariant_image_from_config(config, *model);
 
   const std::string path = config.string("output", "file");
@@ -116,29 +118,30 @@ int run_command(const RunOptions& options, std::ostream& log) {
   h5::AtomicFile output(path);
   auto file = output.create_hdf5();  // fails now, not after the run
 
-  const auto initial = box.points();
-  Ensemble ensemble = model->start(initial, start, plan.escape_bound);
+  auto [ensemble, initial, rejected] = initial_conditions.start(*model, start, plan.escape_bound);
   const auto t0 = Clock::now();
   advance_with_progress(*model, ensemble, plan, x, observers.empty() ? nullptr : &observers,
                         !options.quiet && isatty(STDERR_FILENO), log);
   const double seconds = seconds_since(t0);
 
-  RunRecord record{*model, ensemble, initial, plan, x, kind, box.seed, start,
-                   config.text(), config.resolved(), options.command_line, started, utc_now(),
-                   &observers, image ? &*image : nullptr};
+  RunRecord record{*model, ensemble, initial, plan, x, initial_conditions.kind(),
+                   initial_conditions.seed(), start, config.text(), config.resolved(),
+                   options.command_line, started, utc_now(), &observers,
+                   image ? &*image : nullptr, initial_conditions.description(), rejected};
   write_run(file.root(), record);
   file.close();
   output.commit();
 
-  const double rate = static_cast<double>(box.orbits) * static_cast<double>(plan.total) /
+  const double rate = static_cast<double>(ensemble.orbits) * static_cast<double>(plan.total) /
                       (seconds > 0 ? seconds : 1e-300);
   char line[512];
   std::snprintf(line, sizeof line,
                 "qmaps: %s, %zu orbits x %lld steps in %.3f s (%.3g particle-steps/s, %s, %d "
-                "thread%s), %zu escaped -> %s\n",
-                std::string(model->name()).c_str(), box.orbits, plan.total, seconds, rate,
+                "thread%s), %zu escaped%s -> %s\n",
+                std::string(model->name()).c_str(), ensemble.orbits, plan.total, seconds, rate,
                 std::string(isa_name(x.isa)).c_str(), x.threads, x.threads == 1 ? "" : "s",
-                ensemble.escaped(), path.c_str());
+                ensemble.escaped(), rejected_text(initial_conditions.kind(), rejected).c_str(),
+                path.c_str());
   log << line;
   return 0;
 }

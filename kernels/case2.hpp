@@ -34,6 +34,7 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 #include "kernels/two_step.hpp"
 
 namespace qmaps::kernels {
@@ -42,6 +43,10 @@ struct Case2 : TwoStep<Case2> {
   static constexpr std::string_view name = "case2";
   static constexpr std::string_view summary =
       "case II (beta = alpha, delta = 6 alpha, B = A), symmetric map through u = q1 +- q2";
+  static constexpr std::string_view equations =
+      "(osillators-decoupled), (decoupled_dis), (discrete-case2) corrected; invariants "
+      "(Hamiltonian-dis), I1, I2 (errata E6, E7)";
+  static constexpr std::string_view invariant_summary = "H1, H2, I1, I2";
   static constexpr std::array<ParamSpec, 3> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},
       {"alpha", "quartic coupling: alpha (q1^4 + q2^4) + 6 alpha q1^2 q2^2"},
@@ -60,6 +65,11 @@ struct Case2 : TwoStep<Case2> {
   };
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p); }
+
+  // The continuous system this map discretizes (MAPS.md §0).
+  static Potential continuous(const Coeffs& c) {
+    return {c.A, c.A, c.alpha, c.alpha, 6 * c.alpha};
+  }
 
   static std::vector<std::string> invariant_names(const Coeffs&) {
     return {"H1", "H2", "I1", "I2"};
@@ -132,6 +142,11 @@ struct Case2Staggered : Case2 {
   static constexpr std::string_view name = "case2-staggered";
   static constexpr std::string_view summary =
       "case II, the paper's asymmetric map: the symmetric map for (q1_n, q2_n-1)";
+  static constexpr std::string_view equations =
+      "(discrete-case2-2) with the factor of (discrete-case2); invariants of case2 on the "
+      "staggered pairing (errata E6-E8)";
+  static constexpr std::string_view invariant_summary =
+      "H1, H2, I1, I2 (staggered pairing)";
   static constexpr std::array<std::string_view, 4> state_names = {"q1_n", "q2_n-1", "q1_n+1",
                                                                    "q2_n"};
 

@@ -38,6 +38,7 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 #include "kernels/two_step.hpp"
 #include "kernels/case2.hpp"
 
@@ -47,6 +48,10 @@ struct Case2Hky : TwoStep<Case2Hky> {
   static constexpr std::string_view name = "case2-hky";
   static constexpr std::string_view summary =
       "case II (beta = alpha, delta = 6 alpha, B = A), HKY oscillators through u = q1 +- q2";
+  static constexpr std::string_view equations =
+      "(discrete-case3) corrected, [HKY] oscillators; invariant K, [HKY]'s H1, H2 corrected "
+      "(errata E9-E11)";
+  static constexpr std::string_view invariant_summary = "K+, K-, I1, I2";
   static constexpr double no_default = std::numeric_limits<double>::quiet_NaN();
   static constexpr std::array<ParamSpec, 9> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},
@@ -96,6 +101,11 @@ struct Case2Hky : TwoStep<Case2Hky> {
     if (k1 == 0) throw usage_error("case2-hky: 1 - A h^2 c11 = 0: the map degenerates (k1 = 0)");
     return {A, alpha, h, c11, c12, c21, c22, k0, k1, 4 * alpha * h2 * c22, 4 * alpha * h2 * c21,
             k0 - 1, 2 - k1, 1 / h2};
+  }
+
+  // The continuous system this map discretizes (MAPS.md §0).
+  static Potential continuous(const Coeffs& c) {
+    return {c.A, c.A, c.alpha, c.alpha, 6 * c.alpha};
   }
 
   static std::vector<std::string> invariant_names(const Coeffs&) {

@@ -26,6 +26,7 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 
 namespace qmaps::kernels {
 
@@ -33,6 +34,10 @@ struct Case3 {
   static constexpr std::string_view name = "case3";
   static constexpr std::string_view summary =
       "case III (beta = 16 alpha, delta = 12 alpha, B = 4A), Levi-Civita map, fictitious time";
+  static constexpr std::string_view equations =
+      "(levi), (hamilton-case3-trans), (case3-separation), (case3-discrete), (d-var-change); "
+      "invariants I_k (errata E12-E15, E17)";
+  static constexpr std::string_view invariant_summary = "I_1, I_2";
   static constexpr std::array<ParamSpec, 4> params = {{
       {"A", "coefficient of q1^2 (and B = 4A of q2^2)"},
       {"alpha", "quartic coupling (beta = 16 alpha, delta = 12 alpha)"},
@@ -62,6 +67,11 @@ struct Case3 {
                         number_text(order));
     const double c = ds * ds;
     return {A, alpha, ds, c, 2 * A * c, 2 * alpha * c, 1 / ds, ds / 2, order == 2};
+  }
+
+  // The continuous system this map discretizes (MAPS.md §0).
+  static Potential continuous(const Coeffs& c) {
+    return {c.A, 4 * c.A, c.alpha, 16 * c.alpha, 12 * c.alpha};
   }
 
   static std::vector<std::string> invariant_names(const Coeffs&) { return {"I_1", "I_2"}; }

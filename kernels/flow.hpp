@@ -41,6 +41,7 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 
 namespace qmaps::kernels {
 
@@ -85,6 +86,11 @@ struct SplitFlow {
   static std::string_view case_name(const Coeffs& c) {
     constexpr std::array<std::string_view, 5> names = {"none", "I", "II", "III", "IV"};
     return names[static_cast<std::size_t>(c.which)];
+  }
+
+  // The continuous system this map discretizes (MAPS.md §0).
+  static Potential continuous(const Coeffs& c) {
+    return {c.A, c.B, c.alpha, c.beta, c.delta};
   }
 
   static std::vector<std::string> invariant_names(const Coeffs& c) {
@@ -200,6 +206,10 @@ struct Flow : detail::SplitFlow {
   static constexpr std::string_view name = "flow";
   static constexpr std::string_view summary =
       "the continuous flow, Yoshida composition of Stormer-Verlet of order 2, 4, 6 or 8";
+  static constexpr std::string_view equations =
+      "(hamilton-cont), (cont-quartic); the second integrals of cases I-IV (erratum E1)";
+  static constexpr std::string_view invariant_summary =
+      "H, and I_caseN of the case I-IV the parameters satisfy";
   static constexpr std::array<ParamSpec, 7> params = [] {
     std::array<ParamSpec, 7> p{};
     std::copy(detail::flow_params.begin(), detail::flow_params.end(), p.begin());
@@ -219,6 +229,8 @@ struct Leapfrog : detail::SplitFlow {
   static constexpr std::string_view name = "leapfrog";
   static constexpr std::string_view summary =
       "the continuous flow, Stormer-Verlet (drift-kick-drift), order 2";
+  static constexpr std::string_view equations = Flow::equations;
+  static constexpr std::string_view invariant_summary = Flow::invariant_summary;
   static constexpr std::array<ParamSpec, 6> params = detail::flow_params;
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p, 2); }

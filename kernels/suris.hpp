@@ -22,6 +22,7 @@
 #include "core/ops.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
+#include "core/potential.hpp"
 #include "kernels/two_step.hpp"
 
 namespace qmaps::kernels {
@@ -30,6 +31,10 @@ struct Suris : TwoStep<Suris> {
   static constexpr std::string_view name = "suris";
   static constexpr std::string_view summary =
       "case I (beta = alpha, delta = 2 alpha), Suris' discretization (b), identical to (a)";
+  static constexpr std::string_view equations =
+      "(disc-quarticb1/b2), identical to (disc-quartica1/2); invariants (disc-hamilton2), Suris' "
+      "I1, I2 (errata E2-E5)";
+  static constexpr std::string_view invariant_summary = "H, I1, I2 (A != B); H, L (A = B)";
   static constexpr std::array<ParamSpec, 4> params = {{
       {"A", "coefficient of q1^2 in the potential"},
       {"B", "coefficient of q2^2 in the potential"},
@@ -69,6 +74,11 @@ struct Suris : TwoStep<Suris> {
       c.kx2 = 2 * g * b / (a + b);
     }
     return c;
+  }
+
+  // The continuous system this map discretizes (MAPS.md §0).
+  static Potential continuous(const Coeffs& c) {
+    return {c.A, c.B, c.alpha, c.alpha, 2 * c.alpha};
   }
 
   static std::vector<std::string> invariant_names(const Coeffs& c) {

@@ -1,5 +1,6 @@
 // The qmaps command line, run as a process: a valid run, every kind of bad input (a clear message,
-// the right exit code, no file left behind), `qmaps orbit` output, --help and --simd.
+// the right exit code, no file left behind), `qmaps orbit` output, --help and --simd; every
+// ensemble kind and its bad input; list, info and check.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/h5.hpp"
 #include "run_process.hpp"
 
 namespace qmaps::testing {
@@ -293,6 +295,212 @@ TEST_F(Cli, OrbitBadInputIsRejected) {
       run({"orbit", "--map", "suris", "--set", "A=0.7", "--ic", "0,0,0,0", "--steps", "1"}, dir);
   EXPECT_EQ(missing.status, 2);
   EXPECT_TRUE(Contains(missing.err, "parameter 'B' is missing"));
+}
+
+// ---- ensemble kinds: bad input ---------------------------------------------------------------
+
+namespace kinds {
+
+// The preset's [map], [run] and [output] with this [ensemble] (the preset's is cut out).
+std::string with_ensemble(const std::string& config, const std::string& ensemble) {
+  const auto begin = config.find("[ensemble]"), end = config.find("[run]");
+  return config.substr(0, begin) + "[ensemble]\n" + ensemble + "\n" + config.substr(end);
+}
+
+const std::string kShell =
+    "kind = \"shell\"\nenergy = 0.2\norbits = 50\nq1 = [-0.5, 0.5]\n"
+    "q2 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\n";
+const std::string kGrid =
+    "kind = \"grid\"\naxes = [\"q1\", \"p1\"]\npoints = [4, 4]\n"
+    "q1 = [-0.5, 0.5]\np1 = [-0.5, 0.5]\nq2 = 0.1\np2 = 0.0\n";
+const std::string kLine =
+    "kind = \"line\"\norbits = 5\nfrom = [0.0, 0.0, 0.0, 0.0]\n"
+    "to = [0.5, 0.0, 0.0, 0.5]\n";
+
+}  // namespace kinds
+
+TEST_F(Cli, EveryEnsembleKindRunsAndTheShellReportsItsRejections) {
+  for (const auto& ensemble : {kinds::kShell, kinds::kGrid, kinds::kLine}) {
+    const Result r = run_config(kinds::with_ensemble(config, ensemble));
+    EXPECT_EQ(r.status, 0) << ensemble << r.err;
+  }
+  const Result shell = run_config(kinds::with_ensemble(config, kinds::kShell));
+  EXPECT_TRUE(Contains(shell.err, "qmaps: suris, 50 orbits x 50 steps"));
+  EXPECT_TRUE(Contains(shell.err, " rejected -> "));
+}
+
+TEST_F(Cli, BadEnsembleOfEveryKindIsRejectedWithoutOutput) {
+  using kinds::with_ensemble;
+  const auto rejected = [&](const std::string& ensemble, std::vector<std::string> extra, int code,
+                            const std::vector<std::string>& parts) {
+    const std::string text = with_ensemble(config, ensemble);
+    expect_rejected(run_config(text, extra), code, parts);
+  };
+  // box, grid, shell, line: an empty range
+  rejected(with_line(config.substr(config.find("[ensemble]") + 11,
+                                   config.find("[run]") - config.find("[ensemble]") - 11),
+                     "q1 = ", "q1 = [0.5, -0.5]"),
+           {}, 2, {"[ensemble] q1 is an empty range"});
+  rejected(kinds::kGrid, {"--set", "ensemble.p1=[0.3, 0.3]"}, 2,
+           {"--set ensemble.p1 is an empty range: 4 grid points need lo < hi"});
+  rejected(kinds::kShell, {"--set", "ensemble.q2=[0.3, -0.3]"}, 2, {"empty range"});
+  rejected(kinds::kLine, {"--set", "ensemble.to=[0.0, 0.0, 0.0, 0.0]"}, 2,
+           {"--set ensemble.to is the same point as [ensemble] from"});
+  // grid: 0 points, a wrong axis, a range for a fixed coordinate, an orbit count
+  rejected(kinds::kGrid, {"--set", "ensemble.points=[0, 4]"}, 2,
+           {"--set ensemble.points must be > 0 (got 0)"});
+  rejected(kinds::kGrid, {"--set", "ensemble.axes=[\"q1\", \"q3\"]"}, 2,
+           {"unknown coordinate 'q3'"});
+  rejected(kinds::kGrid, {"--set", "ensemble.q2=[0, 1]"}, 2,
+           {"--set ensemble.q2 must be one number: the grid's other coordinates are fixed"});
+  rejected(kinds::kGrid, {"--set", "ensemble.orbits=16"}, 2, {"set [ensemble] points instead"});
+  // shell: E below the potential's minimum (random and grid), a range for the solved coordinate
+  rejected(kinds::kShell, {"--set", "ensemble.energy=-0.1"}, 2,
+           {"--set ensemble.energy: orbit 0 found no point of H = -0.1 in 1000 draws"});
+  rejected(kinds::kShell + "sampling = \"grid\"\npoints = 5\n",
+           {"--set", "ensemble.energy=-0.1", "--set", "ensemble.orbits=1"}, 2,
+           {"a shell grid has one orbit per accepted point"});
+  expect_rejected(run_config(with_ensemble(config, with_line(kinds::kShell, "orbits = ", "") +
+                                                       "sampling = \"grid\"\npoints = 5\n"),
+                             {"--set", "ensemble.energy=-0.1"}),
+                  2, {"no point of the grid lies on H = -0.1"});
+  rejected(kinds::kShell + "p2 = [0.0, 0.1]\n", {}, 2,
+           {"[ensemble] p2: this coordinate is solved from H = E"});
+  rejected(kinds::kShell, {"--set", "ensemble.sign=up"}, 2, {"sign must be \"+\" or \"-\""});
+  // line: not a point
+  rejected(kinds::kLine, {"--set", "ensemble.from=[0.0, 1.0]"}, 2,
+           {"--set ensemble.from must be an array of 4 finite numbers"});
+  // file: missing, not HDF5, not qmaps, another map, other parameters
+  rejected("kind = \"file\"\npath = \"missing.h5\"\n", {}, 3,
+           {"[ensemble] path: cannot read 'missing.h5'"});
+  write_text(dir / "text.h5", "not hdf5");
+  rejected("kind = \"file\"\npath = \"text.h5\"\n", {}, 3, {"'text.h5' is not an HDF5 file"});
+  const Result earlier = run_config(config, {"--out", "earlier.h5", "--set", "map.A=0.5"});
+  ASSERT_EQ(earlier.status, 0) << earlier.err;
+  rejected("kind = \"file\"\npath = \"earlier.h5\"\n", {}, 2,
+           {"'earlier.h5' holds a run of suris (A = 0.5, B = 0.3, alpha = 0.9, h = 0.1), not of "
+            "this run's suris (A = 0.7, B = 0.3, alpha = 0.9, h = 0.1)"});
+  rejected("kind = \"file\"\npath = \"earlier.h5\"\n",
+           {"--set", "map.name=case2", "--set", "map.B=0.3"}, 2, {"no parameter 'B'"});
+  const std::string case2 = with_line(with_line(config, "name = ", "name = \"case2\""), "B = ", "");
+  expect_rejected(run_config(with_ensemble(case2, "kind = \"file\"\npath = \"earlier.h5\"\n")), 2,
+                  {"holds a run of suris (A = 0.5, B = 0.3, alpha = 0.9, h = 0.1), not of this "
+                   "run's case2 (A = 0.7, alpha = 0.9, h = 0.1)"});
+  rejected("kind = \"file\"\npath = \"earlier.h5\"\ngroup = \"middle\"\n", {}, 2,
+           {"group must be \"final\" or \"initial\""});
+  // unknown kind, unknown key
+  rejected("kind = \"sphere\"\norbits = 3\n", {}, 2,
+           {"unknown ensemble kind 'sphere' (known: box, grid, shell, line, file)"});
+  const std::string line_text = with_ensemble(config, kinds::kLine + "spacing = 2\n");
+  expect_rejected(run_config(line_text), 2,
+                  {"cfg.toml:" + std::to_string(line_of(line_text, "spacing")) +
+                   ": [ensemble] spacing: unknown key"});
+}
+
+TEST_F(Cli, SetReachesArraysOfTablesInRun) {
+  const std::string histogram =
+      "\n[[histogram]]\nname = \"h\"\nx = \"q1\"\nx_range = [-1.0, 1.0]\n";
+  const Result r = run_config(config + histogram, {"--set", "histogram[0].bins=7"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Result info = run({"info", output}, dir);
+  EXPECT_TRUE(Contains(info.out, "h: 7 bins over q1")) << info.out;
+  fs::remove(output);
+  expect_rejected(run_config(config + histogram, {"--set", "histogram[0].colour=1"}), 2,
+                  {"--set histogram[0].colour: unknown key"});
+  expect_rejected(run_config(config + histogram, {"--set", "histogram.bins=7"}), 2,
+                  {"name one as histogram[i].bins"});
+}
+
+// ---- list, info, check -----------------------------------------------------------------------
+
+TEST_F(Cli, ListPrintsEveryMapWithParametersInvariantsAndEquations) {
+  const Result r = run({"list"}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* map :
+       {"suris:", "case2:", "case2-staggered:", "case2-hky:", "case3:", "flow:", "leapfrog:"})
+    EXPECT_TRUE(Contains(r.out, std::string("\n") + map) || r.out.rfind(map, 0) == 0) << map;
+  for (const char* part :
+       {"invariants: H, I1, I2 (A != B); H, L (A = B)", "(disc-hamilton2)", "(discrete-case2-2)",
+        "(levi)", "t_order", "(default 2)",
+        "order   order of the composition: 2, 4, 6 or 8 (default 8)",
+        "h       time step, > 0 (required)", "gamma11", "(optional)", "invariants: I_1, I_2"})
+    EXPECT_TRUE(Contains(r.out, part));
+}
+
+TEST_F(Cli, InfoSummarisesARun) {
+  const std::string observers =
+      "\n[[histogram]]\nname = \"q1q2\"\nx = \"q1\"\ny = \"q2\"\nx_range = [-1.0, 1.0]\n"
+      "y_range = [-1.0, 1.0]\nbins = [8, 4]\n"
+      "\n[[section]]\nname = \"up\"\nplane = \"q1\"\nx = \"q2\"\ny = \"p2\"\ncap = 3\n"
+      "x_range = [-1.0, 1.0]\ny_range = [-1.0, 1.0]\nbins = 4\n";
+  ASSERT_EQ(run_config(config + observers, {"--set", "run.escape_bound=0.6"}).status, 0);
+  const Result r = run({"info", output}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto f = h5::File::open_read(output);
+  const auto root = f.root();
+  const auto escaped = std::to_string(root.attr_int64("escaped"));
+  const std::string crossings =
+      std::to_string(root.open_group("sections").open_group("up").attr_int64("crossings"));
+  for (const std::string& part : std::vector<std::string>{
+           "map:        suris (A = 0.7, B = 0.3, alpha = 0.9, h = 0.1)\n",
+           "ensemble:   box: 100 orbits uniform in", "orbits:     100, steps 50, start taylor",
+           "escaped:    " + escaped + " (" + escaped + " beyond bound)\n", "  H     worst ",
+           "  I1    worst ", "  I2    worst ", "q1q2: 8 x 4 bins over q1 x q2",
+           "up: q1 = 0 (+, iterate), " + crossings + " crossings"})
+    EXPECT_TRUE(Contains(r.out, part));
+  EXPECT_NE(escaped, "0") << "a bound of 0.6 lets some orbits escape";
+}
+
+TEST_F(Cli, InfoRejectsMissingAndForeignFiles) {
+  const Result missing = run({"info", "missing.h5"}, dir);
+  EXPECT_EQ(missing.status, 3);
+  EXPECT_TRUE(Contains(missing.err, "qmaps: error: cannot read 'missing.h5'"));
+  write_text(dir / "text.h5", "not hdf5");
+  const Result text = run({"info", "text.h5"}, dir);
+  EXPECT_EQ(text.status, 3);
+  EXPECT_TRUE(Contains(text.err, "'text.h5' is not an HDF5 file"));
+  {
+    h5::AtomicFile other(dir / "other.h5");
+    auto file = other.create_hdf5();
+    file.root().attr("title", "someone else's data");
+    file.close();
+    other.commit();
+  }
+  const Result foreign = run({"info", "other.h5"}, dir);
+  EXPECT_EQ(foreign.status, 3);
+  EXPECT_TRUE(Contains(foreign.err, "'other.h5' is not a qmaps output file"));
+}
+
+TEST_F(Cli, CheckReportsDriftPercentilesAndReversibility) {
+  const Result r = run({"check", "--map", "suris", "--orbits", "200", "--steps", "300"}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* part :
+       {"map suris (A = 0.7, B = 0.3, alpha = 0.9, h = 0.1): 200 orbits uniform in [-0.5, 0.5]^4 "
+        "(seed 1), 300 steps, 0 escaped",
+        "invariant     median        90%        99%      worst", "\n  H    ", "\n  I1   ",
+        "\n  I2   ",
+        "reversibility: 300 steps forward, reversed, 300 back: max |(q, p) - (q0, p0)| = "})
+    EXPECT_TRUE(Contains(r.out, part));
+  // The worst drift and the reversibility error of an integrable map are round-off.
+  std::istringstream in(r.out.substr(r.out.find("\n  H ")));
+  std::string name;
+  double median = 0, p90 = 0, p99 = 0, worst = 1;
+  in >> name >> median >> p90 >> p99 >> worst;
+  EXPECT_EQ(name, "H");
+  EXPECT_LE(median, p90);
+  EXPECT_LE(p99, worst);
+  EXPECT_LT(worst, 1e-11);
+  const double reversibility = std::strtod(r.out.substr(r.out.rfind("= ") + 2).c_str(), nullptr);
+  EXPECT_LT(reversibility, 1e-10);
+  for (const char* map : {"case2", "case2-staggered", "case2-hky", "case3", "flow", "leapfrog"}) {
+    const Result other = run({"check", "--map", map, "--orbits", "64", "--steps", "100"}, dir);
+    EXPECT_EQ(other.status, 0) << map << other.err;
+    EXPECT_TRUE(Contains(other.out, "reversibility: ")) << map;
+  }
+  const Result bad = run({"check", "--map", "suris", "--set", "h=0"}, dir);
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_TRUE(Contains(bad.err, "h must be > 0"));
+  EXPECT_EQ(run({"check", "--map", "nosuch"}, dir).status, 2);
 }
 
 }  // namespace

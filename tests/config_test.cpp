@@ -148,6 +148,28 @@ TEST(Config, SetTakesBareStringsTomlValuesAndNewSections) {
             "--set run.track must be a number, not a boolean");
 }
 
+TEST(Config, SetReachesATableOfAnArrayOfTablesByIndex) {
+  Config c = Config::parse("[[histogram]]\nname = \"a\"\nbins = 4\n[[histogram]]\nname = \"b\"\n",
+                           "cfg.toml");
+  c.set("histogram[1].bins=[8, 16]");
+  c.set("histogram[0].name=first");
+  EXPECT_EQ(c.range_or_integer("histogram[1]", "bins"), (std::vector<std::int64_t>{8, 16}));
+  EXPECT_EQ(c.string("histogram[0]", "name"), "first");
+  EXPECT_EQ(c.integer("histogram[0]", "bins"), 4);
+  EXPECT_EQ(c.where("histogram[1]", "bins"), "--set histogram[1].bins");
+  EXPECT_EQ(usage_message([&] { c.set("histogram.bins=2"); }),
+            "--set histogram.bins: 'histogram' is an array of tables [[histogram]]: name one as "
+            "histogram[i].bins (i from 0)");
+  EXPECT_EQ(usage_message([&] { c.set("histogram[2].bins=2"); }),
+            "--set histogram[2].bins: there is no [[histogram]] number 2 (tables are counted "
+            "from 0; the config has 2)");
+  EXPECT_EQ(usage_message([&] { c.set("section[0].cap=2"); }),
+            "--set section[0].cap: there is no [[section]] number 0 (tables are counted from 0; "
+            "the config has 0)");
+  EXPECT_EQ(usage_message([&] { c.set("histogram[x].bins=2"); }),
+            "--set histogram[x].bins: expected histogram[index]");
+}
+
 TEST(Config, BadSetSyntaxThrows) {
   for (const char* bad : {"nodot=1", "a.b", ".key=1", "section.=1", "=1", "a=b.c"}) {
     Config c = config();

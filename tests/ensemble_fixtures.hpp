@@ -6,6 +6,7 @@
 #include "core/model.hpp"
 #include "ensembles/box.hpp"
 #include "ensembles/catalogue.hpp"
+#include "ensembles/initial_conditions.hpp"
 
 namespace qmaps::testing {
 
@@ -16,11 +17,7 @@ inline std::unique_ptr<Model> suris(double A = 0.7, double B = 0.3, double alpha
 
 // n points uniform in [−q, q]² × [−p, p]², Philox-keyed by orbit index.
 inline std::vector<Phase> box_points(std::size_t n, double q, double p, std::uint64_t seed = 7) {
-  Box box;
-  box.orbits = n;
-  box.seed = seed;
-  box.ranges = {{{-q, q}, {-q, q}, {-p, p}, {-p, p}}};
-  return box.points();
+  return generate(Box({{{-q, q}, {-q, q}, {-p, p}, {-p, p}}}, seed, n)).points;
 }
 
 }  // namespace qmaps::testing

@@ -103,7 +103,11 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_EQ(root.attr_double("time"), 50 * 0.1);
   EXPECT_EQ(root.attr_int64("orbits"), 100);
   EXPECT_EQ(root.attr_string("ensemble"), "box");
+  EXPECT_EQ(root.attr_string("ensemble_description"),
+            "box: 100 orbits uniform in q1 [0.1, 0.2], q2 0.3, p1 [-0.5, 0.5], p2 [0, 0.001], "
+            "seed 7");
   EXPECT_EQ(root.attr_int64("seed"), 7);
+  EXPECT_EQ(root.attr_int64("rejected"), 0);
   EXPECT_EQ(root.attr_string("start"), "taylor");
   EXPECT_EQ(root.attr_int64("stride"), 7);
   EXPECT_EQ(root.attr_double("escape_bound"), 1e8);

@@ -8,6 +8,7 @@
 
 #include "core/rng.hpp"
 #include "ensembles/box.hpp"
+#include "ensembles/initial_conditions.hpp"
 
 namespace qmaps {
 namespace {
@@ -34,16 +35,11 @@ TEST(Rng, DrawsAreInUnitIntervalAndDifferByOrbitSeedAndStream) {
 }
 
 TEST(Box, OrbitIDependsOnSeedAndIndexAloneNotOnThreads) {
-  Box box;
-  box.orbits = 10007;
-  box.seed = 42;
-  box.ranges = {{{-1, 1}, {0.25, 0.25}, {2, 3}, {-0.5, 0.5}}};
-  omp_set_num_threads(1);
-  const auto one = box.points();
-  omp_set_num_threads(2);
-  const auto two = box.points();
-  for (std::size_t i = 0; i < box.orbits; i += 997) {
-    const Phase x = box.point(i);
+  const Box box({{{-1, 1}, {0.25, 0.25}, {2, 3}, {-0.5, 0.5}}}, 42, 10007);
+  const auto one = generate(box, 1).points;
+  const auto two = generate(box, 2, 3).points;
+  for (std::size_t i = 0; i < box.orbits(); i += 997) {
+    const Phase x = box.draw(i).point;
     EXPECT_EQ(one[i].q1, x.q1);
     EXPECT_EQ(two[i].p2, x.p2);
     EXPECT_EQ(x.q2, 0.25) << "a degenerate range is the fixed value";
@@ -54,8 +50,8 @@ TEST(Box, OrbitIDependsOnSeedAndIndexAloneNotOnThreads) {
   }
   // Hand-computed: orbit 3 is the Philox draw of (seed 42, stream "box", counter 3).
   const auto u = OrbitRandom(42, 0x626f78).uniform4(3);
-  EXPECT_EQ(box.point(3).q1, -1 + 2 * u[0]);
-  EXPECT_EQ(box.point(3).p1, 2 + 1 * u[2]);
+  EXPECT_EQ(box.draw(3).point.q1, -1 + 2 * u[0]);
+  EXPECT_EQ(box.draw(3).point.p1, 2 + 1 * u[2]);
 }
 
 }  // namespace
