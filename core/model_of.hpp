@@ -28,10 +28,13 @@ class ModelOf final : public Model {
   const std::vector<std::string>& invariant_names() const override { return invariant_names_; }
   const typename Map::Coeffs& coeffs() const { return c_; }
 
-  Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const override {
-    Ensemble e(initial.size(), Map::state_names.size(), invariant_names_.size());
-    for (std::size_t i = 0; i < initial.size(); ++i) {
-      const auto s = Map::from_phase_space(c_, initial[i], rule);
+  void start_at(Ensemble& e, std::size_t first, std::span<const Phase> initial, Start rule,
+                double escape_bound) const override {
+    if (first + initial.size() > e.orbits)
+      throw usage_error("orbits [" + std::to_string(first) + ", " +
+                        std::to_string(first + initial.size()) + ") are not in the ensemble");
+    for (std::size_t i = first; i < first + initial.size(); ++i) {
+      const auto s = Map::from_phase_space(c_, initial[i - first], rule);
       for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
       if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
         e.escape_step[i] = 0;
@@ -44,8 +47,6 @@ class ModelOf final : public Model {
         e.invariant_max_drift[k][i] = 0;
       }
     }
-    e.fill_padding();
-    return e;
   }
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,

@@ -33,11 +33,15 @@ Phase Box::point(std::size_t orbit) const {
   return {x[0], x[1], x[2], x[3]};
 }
 
+void Box::points(std::size_t first, std::span<Phase> out) const {
+  const long long n = static_cast<long long>(out.size());
+#pragma omp parallel for schedule(static)
+  for (long long i = 0; i < n; ++i) out[i] = point(first + static_cast<std::size_t>(i));
+}
+
 std::vector<Phase> Box::points() const {
   std::vector<Phase> out(orbits);
-  const long long n = static_cast<long long>(orbits);
-#pragma omp parallel for schedule(static)
-  for (long long i = 0; i < n; ++i) out[i] = point(static_cast<std::size_t>(i));
+  points(0, out);
   return out;
 }
 

@@ -3,6 +3,7 @@
 // (seed, i) alone.
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/config.hpp"
@@ -17,6 +18,8 @@ struct Box {
 
   static Box from_config(const Config& config);  // reads [ensemble] orbits, seed, q1, q2, p1, p2
   Phase point(std::size_t orbit) const;
+  // Orbits [first, first + out.size()).
+  void points(std::size_t first, std::span<Phase> out) const;
   std::vector<Phase> points() const;
 };
 
