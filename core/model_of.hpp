@@ -33,8 +33,11 @@ class ModelOf final : public Model {
     if (first + initial.size() > e.orbits)
       throw usage_error("orbits [" + std::to_string(first) + ", " +
                         std::to_string(first + initial.size()) + ") are not in the ensemble");
-    for (std::size_t i = first; i < first + initial.size(); ++i) {
-      const auto s = Map::from_phase_space(c_, initial[i - first], rule);
+    const long long n = static_cast<long long>(initial.size());
+#pragma omp parallel for schedule(static)
+    for (long long j = 0; j < n; ++j) {
+      const std::size_t i = first + static_cast<std::size_t>(j);
+      const auto s = Map::from_phase_space(c_, initial[static_cast<std::size_t>(j)], rule);
       for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
       if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
         e.escape_step[i] = 0;

@@ -40,7 +40,7 @@ std::string session_line(long long first, long long last, const Execution& x,
                          const std::string& command_line);
 
 // Per-orbit datasets are written and copied this many orbits at a time.
-inline constexpr std::size_t orbits_per_part = std::size_t{1} << 16;
+inline constexpr std::size_t orbits_per_part = std::size_t{1} << 20;
 
 // The datasets q1, q2, p1, p2 of `g` for n orbits, written by parts.
 void create_phase(const h5::Group& g, std::size_t n);

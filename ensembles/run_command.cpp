@@ -142,7 +142,9 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
-  long long length = 1;  // of a segment: doubled or halved to take about 0.1 to 0.4 s
+  // Steps per segment: doubled or halved to take about 2 to 8 s (each segment is a pass over
+  // the ensemble's memory; a signal waits for the segment's end).
+  long long length = 1;
   do {
     RunPlan segment = r.plan;
     segment.first = e.step;
@@ -165,8 +167,8 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
       return static_cast<int>(ExitCode::interrupted);
     }
     if (r.checkpoint_every > 0 && e.step % r.checkpoint_every == 0) save();
-    if (took < 0.1) length = std::min(2 * length, r.plan.total);
-    else if (took > 0.4 && length > 1) length /= 2;
+    if (took < 2) length = std::min(2 * length, r.plan.total);
+    else if (took > 8 && length > 1) length /= 2;
   } while (e.step < r.plan.total);
   progress.end();
   const double seconds = progress.seconds();
