@@ -125,7 +125,7 @@ RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
 // writing a checkpoint every `checkpoint_every` steps and, on SIGINT or SIGTERM, one before it
 // stops; then writes the output file and removes the checkpoint.
 int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
-            const RunOptions& options, std::ostream& log) {
+            const InterruptGuard& interrupt, const RunOptions& options, std::ostream& log) {
   const std::string session_started = r.sessions.empty() ? r.started : utc_now();
   const long long first = e.step;
   const std::string checkpoint = r.path + checkpoint_suffix;
@@ -138,7 +138,6 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   };
 
   Progress progress(!options.quiet && isatty(STDERR_FILENO), log, r.orbits, first, r.plan.total);
-  const InterruptGuard interrupt;
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
@@ -192,7 +191,8 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   return 0;
 }
 
-int resume_command(const RunOptions& options, std::ostream& log) {
+int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
+                   std::ostream& log) {
   if (!options.config_path.empty() || !options.sets.empty() || !options.out.empty())
     throw usage_error(
         "--resume continues the run its checkpoint describes: give no config, --set or --out");
@@ -225,7 +225,7 @@ int resume_command(const RunOptions& options, std::ostream& log) {
                                     std::to_string(r.plan.total) + ")");
     restore_observers(root, r.observers);
     if (r.per_orbit) copy_phase(root.open_group("initial"), file.root().create_group("initial"), r.orbits);
-    return execute(r, e, output, file, options, log);
+    return execute(r, e, output, file, interrupt, options, log);
   } catch (const Error& e) {
     if (e.code() != ExitCode::io) throw;
     throw Error(ExitCode::io, "checkpoint '" + path + "': " + e.what());
@@ -235,7 +235,9 @@ int resume_command(const RunOptions& options, std::ostream& log) {
 }  // namespace
 
 int run_command(const RunOptions& options, std::ostream& log) {
-  if (!options.resume.empty()) return resume_command(options, log);
+  // A signal from here on is answered after the first segment: the run stops with a checkpoint.
+  const InterruptGuard interrupt;
+  if (!options.resume.empty()) return resume_command(options, interrupt, log);
   if (options.config_path.empty())
     throw usage_error("qmaps run needs a config file, or --resume <output>.ckpt");
   const std::string started = utc_now();
@@ -271,7 +273,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
     r.model->start_at(e, first, points, r.start, r.plan.escape_bound);
   }
   e.fill_padding();
-  return execute(r, e, output, file, options, log);
+  return execute(r, e, output, file, interrupt, options, log);
 }
 
 }  // namespace qmaps
