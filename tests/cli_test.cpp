@@ -181,6 +181,9 @@ TEST_F(Cli, MapErrorsNameTheConfigSectionAndNumbersExactly) {
 TEST_F(Cli, EnsembleLargerThanMemoryIsAUsageErrorNotACrash) {
   expect_rejected(run_config(config, {"--set", "ensemble.orbits=10000000000000"}), 2,
                   {"10000000000000 orbits need about", "GiB; this machine has"});
+  // Suris: 89 bytes per orbit (state 32, escape 9, invariant tracking 3 × 16), 8.9e14 bytes.
+  expect_rejected(run_config(config, {"--set", "ensemble.orbits=10000000000000"}), 2,
+                  {"need about 8.29e+05 GiB"});
 }
 
 TEST_F(Cli, BadObserverConfigurationIsRejectedNamingTheKey) {
