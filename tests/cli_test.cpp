@@ -241,7 +241,7 @@ TEST_F(Cli, HelpExitsZeroAndListsOptions) {
   for (const char* s : {"run", "orbit", "--version"}) EXPECT_TRUE(Contains(top.out, s));
   const Result run_help = run({"run", "--help"}, dir);
   EXPECT_EQ(run_help.status, 0);
-  for (const char* s : {"config", "--set", "--out", "--threads", "--simd", "--quiet"})
+  for (const char* s : {"config", "--resume", "--set", "--out", "--threads", "--simd", "--quiet"})
     EXPECT_TRUE(Contains(run_help.out, s));
   const Result orbit_help = run({"orbit", "--help"}, dir);
   EXPECT_EQ(orbit_help.status, 0);
