@@ -51,10 +51,13 @@ std::map<std::string, std::vector<char>> datasets(const std::string& path) {
   return out;
 }
 
-// EXPECT_TRUE(SameDatasets(a, b)): the same dataset paths, each with the same bytes.
-::testing::AssertionResult SameDatasets(const std::string& a, const std::string& b) {
+// EXPECT_TRUE(SameDatasets(a, b)): the same dataset paths (or, for a `subset`, some of b's), each
+// with the same bytes.
+::testing::AssertionResult SameDatasets(const std::string& a, const std::string& b,
+                                        bool subset = false) {
   const auto x = datasets(a), y = datasets(b);
-  if (x.size() != y.size())
+  if (x.empty()) return ::testing::AssertionFailure() << a << " has no dataset";
+  if (subset ? x.size() > y.size() : x.size() != y.size())
     return ::testing::AssertionFailure() << x.size() << " datasets against " << y.size();
   for (const auto& [name, bytes] : x) {
     const auto it = y.find(name);
@@ -99,8 +102,10 @@ class Checkpoint : public ::testing::Test {
 
   // Starts the run with checkpoints every `every` steps, waits for the first checkpoint (a random
   // step of the run), sends `sig`, and checks what an interrupted run leaves.
-  Result interrupt(long long every, int sig) {
-    const pid_t pid = spawn({"run", "cfg.toml", "--set", "run.checkpoint_every=" + std::to_string(every)}, dir);
+  Result interrupt(long long every, int sig, std::vector<std::string> extra = {}) {
+    extra.insert(extra.begin(),
+                 {"run", "cfg.toml", "--set", "run.checkpoint_every=" + std::to_string(every)});
+    const pid_t pid = spawn(extra, dir);
     for (int i = 0; i < 4000 && !fs::exists(checkpoint); ++i)
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     kill(pid, sig);
@@ -155,6 +160,14 @@ TEST_F(Checkpoint, InterruptedBySigtermTwiceAndResumedEqualsUninterruptedRun) {
   EXPECT_TRUE(Contains(sessions, "steps 0-"));
   EXPECT_TRUE(Contains(sessions, "-3000, "));
   EXPECT_TRUE(Contains(sessions, "run --resume " + checkpoint + "\n"));
+}
+
+TEST_F(Checkpoint, WithoutPerOrbitDatasetsResumedHistogramsEqualUninterruptedRuns) {
+  interrupt(150, SIGINT, {"--set", "output.per_orbit=false"});
+  ASSERT_EQ(resume({"--threads", "1"}).status, 0);
+  EXPECT_EQ(h5::File::open_read(output).root().attr_int64("per_orbit"), 0);
+  EXPECT_FALSE(h5::File::open_read(output).root().has("initial"));
+  EXPECT_TRUE(SameDatasets(output, reference(), true));
 }
 
 TEST_F(Checkpoint, PeriodicCheckpointsChangeNothingAndAreRemoved) {
