@@ -178,6 +178,14 @@ long long Config::integer_or(std::string_view section, std::string_view key,
   return has(section, key) ? integer(section, key) : fallback;
 }
 
+bool Config::boolean_or(std::string_view section, std::string_view key, bool fallback) const {
+  if (!has(section, key)) return fallback;
+  const auto& n = node(section, key);
+  if (!n.is_boolean())
+    throw usage_error(where(section, key) + " must be true or false, not " + type_name(n));
+  return *n.value<bool>();
+}
+
 std::string Config::string(std::string_view section, std::string_view key) const {
   const auto& n = node(section, key);
   if (!n.is_string())

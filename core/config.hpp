@@ -32,6 +32,7 @@ class Config {
   double number_or(std::string_view section, std::string_view key, double fallback) const;
   long long integer(std::string_view section, std::string_view key) const;
   long long integer_or(std::string_view section, std::string_view key, long long fallback) const;
+  bool boolean_or(std::string_view section, std::string_view key, bool fallback) const;
   std::string string(std::string_view section, std::string_view key) const;
   std::string string_or(std::string_view section, std::string_view key, std::string fallback) const;
   // [lo, hi] with lo ≤ hi, both finite; a single number x means [x, x].

@@ -12,6 +12,7 @@ enum class ExitCode : int {
   usage = 2,         // bad command line, configuration or parameters
   io = 3,            // a file that cannot be read or written
   unsupported = 4,   // an ISA that this binary or this CPU lacks
+  interrupted = 5,   // SIGINT or SIGTERM: a checkpoint was written; `qmaps run --resume` goes on
 };
 
 class Error : public std::runtime_error {

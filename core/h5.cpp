@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <type_traits>
 
 #include "core/error.hpp"
 
@@ -64,6 +65,34 @@ std::vector<T> read_1d(hid_t parent, const std::string& where, const std::string
     checked(H5Dread(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
             "cannot read " + where + "/" + name, 0);
   return out;
+}
+
+template <class T>
+hid_t native_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
+  else return H5T_NATIVE_UINT8;
+}
+
+// The dataset `name` of `parent` with elements [first, first + count) selected in its file space,
+// and a memory space of count elements; the transfer `io` (H5Dwrite or H5Dread) runs on them.
+template <class Transfer>
+void transfer_part(hid_t parent, const std::string& where, const std::string& name,
+                   std::size_t first, std::size_t count, Transfer io) {
+  const std::string what = where + "/" + name;
+  Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), "no dataset " + what),
+             H5Dclose);
+  Handle file_space(checked(H5Dget_space(set.id()), "dataspace of " + what), H5Sclose);
+  const hsize_t start[1] = {first}, size[1] = {count};
+  if (H5Sget_simple_extent_ndims(file_space.id()) != 1 ||
+      first + count > static_cast<std::size_t>(H5Sget_simple_extent_npoints(file_space.id())))
+    throw failure("elements [" + std::to_string(first) + ", " + std::to_string(first + count) +
+                  ") are not in the one-dimensional dataset " + what);
+  if (count == 0) return;
+  checked(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+          "selection in " + what, 0);
+  Handle memory_space(checked(H5Screate_simple(1, size, nullptr), "dataspace"), H5Sclose);
+  checked(io(set.id(), memory_space.id(), file_space.id()), "cannot transfer " + what, 0);
 }
 
 void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* value) {
@@ -149,11 +178,44 @@ std::vector<hsize_t> Group::shape(const std::string& name) const {
   return dims;
 }
 
+template <class T>
+void Group::create_column(const std::string& name, std::size_t n) const {
+  const hsize_t dims[1] = {n};
+  write_nd(id(), path_, name, native_type<T>(), std::span<const T>(),
+           std::span<const hsize_t>(dims));
+}
+
+template <class T>
+void Group::write_part(const std::string& name, std::size_t first, std::span<const T> data) const {
+  transfer_part(id(), path_, name, first, data.size(), [&](hid_t set, hid_t memory, hid_t file) {
+    return H5Dwrite(set, native_type<T>(), memory, file, H5P_DEFAULT, data.data());
+  });
+}
+
+template <class T>
+void Group::read_part(const std::string& name, std::size_t first, std::span<T> out) const {
+  transfer_part(id(), path_, name, first, out.size(), [&](hid_t set, hid_t memory, hid_t file) {
+    return H5Dread(set, native_type<T>(), memory, file, H5P_DEFAULT, out.data());
+  });
+}
+
+#define QMAPS_H5_COLUMN(T)                                                                  \
+  template void Group::create_column<T>(const std::string&, std::size_t) const;             \
+  template void Group::write_part<T>(const std::string&, std::size_t, std::span<const T>) const; \
+  template void Group::read_part<T>(const std::string&, std::size_t, std::span<T>) const;
+QMAPS_H5_COLUMN(double)
+QMAPS_H5_COLUMN(std::int64_t)
+QMAPS_H5_COLUMN(std::uint8_t)
+#undef QMAPS_H5_COLUMN
+
 std::vector<double> Group::read_doubles(const std::string& name) const {
   return read_1d<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
 }
 std::vector<std::int64_t> Group::read_int64(const std::string& name) const {
   return read_1d<std::int64_t>(id(), path_, name, H5T_NATIVE_INT64);
+}
+std::vector<std::uint8_t> Group::read_uint8(const std::string& name) const {
+  return read_1d<std::uint8_t>(id(), path_, name, H5T_NATIVE_UINT8);
 }
 
 void Group::attr(const std::string& name, const std::string& value) const {

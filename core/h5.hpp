@@ -45,8 +45,17 @@ class Group {
   void write(const std::string& name, std::span<const std::int64_t> data,
              std::span<const hsize_t> dims) const;
   std::vector<hsize_t> shape(const std::string& name) const;
+  // A one-dimensional dataset of n elements of T (double, std::int64_t or std::uint8_t), created
+  // empty, then written (and read) in parts, so that no full-size copy is ever needed.
+  template <class T>
+  void create_column(const std::string& name, std::size_t n) const;
+  template <class T>
+  void write_part(const std::string& name, std::size_t first, std::span<const T> data) const;
+  template <class T>
+  void read_part(const std::string& name, std::size_t first, std::span<T> out) const;
   std::vector<double> read_doubles(const std::string& name) const;
   std::vector<std::int64_t> read_int64(const std::string& name) const;
+  std::vector<std::uint8_t> read_uint8(const std::string& name) const;
 
   void attr(const std::string& name, const std::string& value) const;
   void attr(const std::string& name, const char* value) const { attr(name, std::string(value)); }

@@ -43,6 +43,17 @@ void Histogram::merge(const Histogram& other) {
   for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
 }
 
+void Histogram::restore(std::span<const std::int64_t> cells, std::int64_t underflow,
+                        std::int64_t overflow) {
+  if (cells.size() != cells_)
+    throw Error(ExitCode::io, "histogram '" + name_ + "' has " + std::to_string(cells_) +
+                                  " cells, not " + std::to_string(cells.size()));
+  std::fill(counts_.begin(), counts_.end(), 0);
+  std::copy(cells.begin(), cells.end(), counts_.begin());
+  counts_[cells_] = underflow;
+  counts_[cells_ + 1] = overflow;
+}
+
 Histogram Histogram::empty_copy() const { return Histogram(name_, axes_); }
 
 }  // namespace qmaps

@@ -50,6 +50,8 @@ class Histogram {
   }
 
   void merge(const Histogram& other);
+  // Sets every count, as counts(), underflow() and overflow() gave them (a checkpoint's).
+  void restore(std::span<const std::int64_t> cells, std::int64_t underflow, std::int64_t overflow);
   // The same histogram with every count 0 (a thread's partial).
   Histogram empty_copy() const;
 

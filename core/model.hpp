@@ -34,9 +34,22 @@ class Model {
   virtual std::span<const std::string_view> state_names() const = 0;
   virtual const std::vector<std::string>& invariant_names() const = 0;
 
-  // The ensemble that starts at these phase-space points (orbits whose start is already beyond
-  // the bound or non-finite are escaped at step 0), with its invariants' initial values.
-  virtual Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const = 0;
+  // An ensemble of `orbits` orbits laid out for this map, every orbit still to be started.
+  Ensemble ensemble(std::size_t orbits) const {
+    return Ensemble(orbits, state_names().size(), invariant_names().size());
+  }
+  // Starts orbits [first, first + initial.size()) of `e` at these phase-space points (orbits whose
+  // start is already beyond the bound or non-finite are escaped at step 0), with their
+  // invariants' initial values. Once every orbit is started, e.fill_padding() completes `e`.
+  virtual void start_at(Ensemble& e, std::size_t first, std::span<const Phase> initial, Start rule,
+                        double escape_bound) const = 0;
+  // The ensemble that starts at these phase-space points.
+  Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const {
+    Ensemble e = ensemble(initial.size());
+    start_at(e, 0, initial, rule, escape_bound);
+    e.fill_padding();
+    return e;
+  }
   // The ensemble whose orbit i is in the state (state[0][i], state[1][i], …), components in the
   // order of state_names(), e.g. the /final/state of an earlier run; the same escape test.
   virtual Ensemble start_from_state(std::span<const std::vector<double>> state,

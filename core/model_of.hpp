@@ -28,9 +28,10 @@ class ModelOf final : public Model {
   const std::vector<std::string>& invariant_names() const override { return invariant_names_; }
   const typename Map::Coeffs& coeffs() const { return c_; }
 
-  Ensemble start(std::span<const Phase> initial, Start rule, double escape_bound) const override {
-    return ensemble_of(initial.size(), escape_bound,
-                       [&](std::size_t i) { return Map::from_phase_space(c_, initial[i], rule); });
+  void start_at(Ensemble& e, std::size_t first, std::span<const Phase> initial, Start rule,
+                double escape_bound) const override {
+    start_orbits(e, first, initial.size(), escape_bound,
+                 [&](std::size_t j) { return Map::from_phase_space(c_, initial[j], rule); });
   }
 
   Ensemble start_from_state(std::span<const std::vector<double>> state,
@@ -39,11 +40,14 @@ class ModelOf final : public Model {
       throw usage_error(std::string(Map::name) + ": a state has " +
                         std::to_string(Map::state_names.size()) + " components, not " +
                         std::to_string(state.size()));
-    return ensemble_of(state.front().size(), escape_bound, [&](std::size_t i) {
+    Ensemble e(state.front().size(), Map::state_names.size(), invariant_names_.size());
+    start_orbits(e, 0, e.orbits, escape_bound, [&](std::size_t i) {
       typename Map::template State<double> s;
       for (std::size_t k = 0; k < s.size(); ++k) s[k] = state[k][i];
       return s;
     });
+    e.fill_padding();
+    return e;
   }
 
   Potential continuous() const override { return Map::continuous(c_); }
@@ -107,13 +111,20 @@ class ModelOf final : public Model {
   using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
                           const RunPlan&, Observers*);
 
-  // Orbits 0…n−1 in the states state_at(i): escaped at step 0 where already beyond the bound or
-  // non-finite, with their invariants' initial values.
+  // Starts orbits [first, first + n) of e in the states state_at(0 … n − 1), in parallel:
+  // escaped at step 0 where already beyond the bound or non-finite, with their invariants'
+  // initial values.
   template <class StateAt>
-  Ensemble ensemble_of(std::size_t n, double escape_bound, StateAt state_at) const {
-    Ensemble e(n, Map::state_names.size(), invariant_names_.size());
-    for (std::size_t i = 0; i < n; ++i) {
-      const auto s = state_at(i);
+  void start_orbits(Ensemble& e, std::size_t first, std::size_t n, double escape_bound,
+                    StateAt state_at) const {
+    if (first + n > e.orbits)
+      throw usage_error("orbits [" + std::to_string(first) + ", " + std::to_string(first + n) +
+                        ") are not in the ensemble");
+    const long long count = static_cast<long long>(n);
+#pragma omp parallel for schedule(static)
+    for (long long j = 0; j < count; ++j) {
+      const std::size_t i = first + static_cast<std::size_t>(j);
+      const auto s = state_at(static_cast<std::size_t>(j));
       for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
       if (!(Map::escape_measure(s) <= escape_bound * escape_bound)) {
         e.escape_step[i] = 0;
@@ -126,8 +137,6 @@ class ModelOf final : public Model {
         e.invariant_max_drift[k][i] = 0;
       }
     }
-    e.fill_padding();
-    return e;
   }
 
   static typename Map::template State<double> state_of(const Ensemble& e, std::size_t orbit) {

@@ -7,7 +7,8 @@
 namespace qmaps {
 
 struct RunOptions {
-  std::string config_path;
+  std::string config_path;        // or, to continue a run:
+  std::string resume;             // its checkpoint, "<output>.ckpt"
   std::vector<std::string> sets;  // "section.key=value"
   std::string out;                // overrides [output] file when not empty
   int threads = 0;                // 0: all the cores OpenMP offers

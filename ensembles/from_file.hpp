@@ -22,6 +22,8 @@ class FromFile final : public EnsembleKind {
   std::size_t orbits() const override { return orbits_; }
   Drawn draw(std::size_t orbit) const override;
   std::string description() const override;
+  // group = "final": the orbits continue the file's states (continued()), not its points.
+  bool continues() const { return final_; }
   // group = "final": the ensemble in the file's states, its escaped orbits escaped.
   std::optional<Ensemble> continued(double escape_bound) const;
 

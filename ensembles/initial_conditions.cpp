@@ -13,28 +13,33 @@
 
 namespace qmaps {
 
-Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
-  const std::size_t n = kind.orbits();
-  Generated g;
-  g.points.resize(n);
+std::uint64_t generate(const EnsembleKind& kind, std::size_t first, std::span<Phase> out,
+                       int threads, std::size_t chunk) {
   std::uint64_t rejected = 0;
   std::size_t failed = std::numeric_limits<std::size_t>::max();
-  const long long count = static_cast<long long>(n);
+  const long long count = static_cast<long long>(out.size());
   const int team = threads > 0 ? threads : omp_get_max_threads();
   const int step = static_cast<int>(chunk > 0 ? chunk : 1);
 #pragma omp parallel for schedule(dynamic, step) num_threads(team) reduction(+ : rejected)
-  for (long long i = 0; i < count; ++i) {
+  for (long long j = 0; j < count; ++j) {
+    const std::size_t i = first + static_cast<std::size_t>(j);
     try {
-      const Drawn d = kind.draw(static_cast<std::size_t>(i));
-      g.points[static_cast<std::size_t>(i)] = d.point;
+      const Drawn d = kind.draw(i);
+      out[static_cast<std::size_t>(j)] = d.point;
       rejected += d.rejected;
     } catch (const std::exception&) {  // rethrown below, outside the parallel region
 #pragma omp critical(qmaps_generate_failed)
-      failed = std::min(failed, static_cast<std::size_t>(i));
+      failed = std::min(failed, i);
     }
   }
   if (failed != std::numeric_limits<std::size_t>::max()) kind.draw(failed);  // throws its error
-  g.rejected = rejected + kind.rejected_up_front();
+  return rejected;
+}
+
+Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
+  Generated g;
+  g.points.resize(kind.orbits());
+  g.rejected = generate(kind, 0, g.points, threads, chunk) + kind.rejected_up_front();
   return g;
 }
 
@@ -57,14 +62,24 @@ InitialConditions InitialConditions::from_config(const Config& config, const Mod
   return ic;
 }
 
-Started InitialConditions::start(const Model& model, Start rule, double escape_bound,
-                                 int threads) const {
-  Generated g = generate(*generator_, threads);
-  if (const auto* file = dynamic_cast<const FromFile*>(generator_.get()))
-    if (auto e = file->continued(escape_bound))
-      return {std::move(*e), std::move(g.points), g.rejected};
-  Ensemble e = model.start(g.points, rule, escape_bound);
-  return {std::move(e), std::move(g.points), g.rejected};
+std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start rule,
+                                       double escape_bound, const PointsSink& sink,
+                                       std::size_t part) const {
+  const auto* file = dynamic_cast<const FromFile*>(generator_.get());
+  if (file)
+    if (auto continued = file->continued(escape_bound)) e = std::move(*continued);
+  const bool continues = file && file->continues();
+  std::uint64_t rejected = generator_->rejected_up_front();
+  const std::size_t n = orbits();
+  std::vector<Phase> points(std::min(n, part));
+  for (std::size_t first = 0; first < n; first += part) {
+    const auto some = std::span<Phase>(points).first(std::min(part, n - first));
+    rejected += generate(*generator_, first, some);
+    sink(first, some);
+    if (!continues) model.start_at(e, first, some, rule, escape_bound);
+  }
+  e.fill_padding();
+  return rejected;
 }
 
 }  // namespace qmaps

@@ -2,7 +2,9 @@
 // The initial conditions of a run: the ensemble kind that [ensemble] kind names (box, grid,
 // shell, line, file), its points drawn in parallel, and the ensemble that starts from them.
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,16 +20,17 @@ struct Generated {
   std::uint64_t rejected = 0;
 };
 
-// Draws every orbit of `kind` with `threads` OpenMP threads (0: OpenMP's default), handing out
-// `chunk` orbits at a time in whatever order threads come; the result does not depend on either.
-// An orbit that cannot be drawn throws the error of the lowest such orbit.
+// Draws orbits [first, first + out.size()) of `kind` into `out` with `threads` OpenMP threads (0:
+// OpenMP's default), handing out `chunk` orbits at a time in whatever order threads come; the
+// result does not depend on either. Returns the candidates rejected on the way. An orbit that
+// cannot be drawn throws the error of the lowest such orbit.
+std::uint64_t generate(const EnsembleKind& kind, std::size_t first, std::span<Phase> out,
+                       int threads = 0, std::size_t chunk = 4096);
+// Every orbit of `kind`.
 Generated generate(const EnsembleKind& kind, int threads = 0, std::size_t chunk = 4096);
 
-struct Started {
-  Ensemble ensemble;
-  std::vector<Phase> initial;  // the phase point of each orbit's start (/initial)
-  std::uint64_t rejected = 0;
-};
+// Receives orbits [first, first + points.size())'s starting points as they are drawn.
+using PointsSink = std::function<void(std::size_t first, std::span<const Phase> points)>;
 
 class InitialConditions {
  public:
@@ -42,9 +45,13 @@ class InitialConditions {
   std::uint64_t seed() const { return generator_->seed(); }
   std::string description() const { return generator_->description(); }
 
-  // The ensemble at step 0: from the points by the start rule, or the earlier run's exact state
-  // (kind file, group final).
-  Started start(const Model& model, Start rule, double escape_bound, int threads = 0) const;
+  // Starts every orbit of `e` (model.ensemble(orbits())) at step 0, a part of `part` orbits at a
+  // time, so that no copy of all the points is ever held: each part's points are drawn, handed
+  // to `sink` (e.g. to write /initial) and started by the rule, or, for kind file with group
+  // final, the orbits continue the earlier run's exact state. Returns the candidates rejected
+  // (shell ensembles) and leaves `e` complete, padding filled.
+  std::uint64_t start(const Model& model, Ensemble& e, Start rule, double escape_bound,
+                      const PointsSink& sink, std::size_t part = std::size_t{1} << 20) const;
 
  private:
   std::string kind_;

@@ -17,7 +17,9 @@ int main(int argc, char** argv) {
 
   qmaps::RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "advance an ensemble as a TOML config says; write HDF5");
-  run_cmd->add_option("config", run.config_path, "TOML configuration file")->required();
+  run_cmd->add_option("config", run.config_path, "TOML configuration file");
+  run_cmd->add_option("--resume", run.resume,
+                      "continue the run of this checkpoint (<output>.ckpt) instead of a config");
   run_cmd->add_option("--set", run.sets, "override a config key: section.key=value (repeatable)");
   run_cmd->add_option("--out", run.out, "output HDF5 file (overrides [output] file)");
   run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")

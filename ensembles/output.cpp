@@ -1,5 +1,6 @@
 #include "ensembles/output.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <vector>
@@ -9,16 +10,28 @@
 namespace qmaps {
 namespace {
 
-void write_phase(const h5::Group& g, std::span<const Phase> points) {
-  std::vector<double> column(points.size());
-  const auto put = [&](const char* name, double Phase::*member) {
-    for (std::size_t i = 0; i < points.size(); ++i) column[i] = points[i].*member;
-    g.write(name, column);
-  };
-  put("q1", &Phase::q1);
-  put("q2", &Phase::q2);
-  put("p1", &Phase::p1);
-  put("p2", &Phase::p2);
+constexpr const char* phase_names[4] = {"q1", "q2", "p1", "p2"};
+constexpr double Phase::*phase_members[4] = {&Phase::q1, &Phase::q2, &Phase::p1, &Phase::p2};
+
+struct Column {
+  const h5::Group& group;
+  std::string name;
+};
+
+// Datasets of n doubles, computed orbits_per_part orbits at a time: fill(first, count, values)
+// sets values[k][0, count) of column k for orbits [first, first + count).
+template <class Fill>
+void write_columns(const std::vector<Column>& columns, std::size_t n, Fill fill) {
+  for (const auto& c : columns) c.group.create_column<double>(c.name, n);
+  std::vector<std::vector<double>> values(columns.size(),
+                                          std::vector<double>(std::min(n, orbits_per_part)));
+  for (std::size_t first = 0; first < n; first += orbits_per_part) {
+    const std::size_t count = std::min(orbits_per_part, n - first);
+    fill(first, count, values);
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      columns[k].group.write_part<double>(columns[k].name, first,
+                                          std::span<const double>(values[k]).first(count));
+  }
 }
 
 // counts (shape bins, or bins × bins), edges per axis, and the attributes of a histogram.
@@ -97,6 +110,45 @@ std::string utc_now() {
   return text;
 }
 
+std::string session_line(long long first, long long last, const Execution& x,
+                         const std::string& started, const std::string& finished,
+                         const std::string& command_line) {
+  return "steps " + std::to_string(first) + "-" + std::to_string(last) + ", " +
+         std::string(isa_name(x.isa)) + ", " + std::to_string(x.threads) + " thread" +
+         (x.threads == 1 ? "" : "s") + ", " + started + " to " + finished + ": " + command_line +
+         "\n";
+}
+
+void create_phase(const h5::Group& g, std::size_t n) {
+  for (const char* name : phase_names) g.create_column<double>(name, n);
+}
+
+void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points) {
+  std::vector<double> column(points.size());
+  for (int k = 0; k < 4; ++k) {
+    for (std::size_t i = 0; i < points.size(); ++i) column[i] = points[i].*phase_members[k];
+    g.write_part<double>(phase_names[k], first, column);
+  }
+}
+
+void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points) {
+  std::vector<double> column(points.size());
+  for (int k = 0; k < 4; ++k) {
+    g.read_part<double>(phase_names[k], first, column);
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].*phase_members[k] = column[i];
+  }
+}
+
+void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n) {
+  create_phase(to, n);
+  std::vector<Phase> part(std::min(n, orbits_per_part));
+  for (std::size_t first = 0; first < n; first += orbits_per_part) {
+    const auto points = std::span<Phase>(part).first(std::min(orbits_per_part, n - first));
+    read_phase_part(from, first, points);
+    write_phase_part(to, first, points);
+  }
+}
+
 void write_run(const h5::Group& root, const RunRecord& run) {
   const Model& model = run.model;
   const Ensemble& e = run.ensemble;
@@ -106,6 +158,8 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   root.attr("qmaps_version", build::version);
   root.attr("git_commit", build::commit);
   root.attr("compiler", build::compiler);
+  root.attr("compiler_flags", build::engine_flags);
+  root.attr("kernel_flags", build::kernel_flags);
   root.attr("map", std::string(model.name()));
   const auto specs = model.param_specs();
   const auto values = model.param_values();
@@ -122,6 +176,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   root.attr("stride", static_cast<std::int64_t>(run.plan.stride));
   root.attr("escape_bound", run.plan.escape_bound);
   root.attr("escaped", static_cast<std::int64_t>(e.escaped()));
+  root.attr("per_orbit", static_cast<std::int64_t>(run.per_orbit));
   root.attr("isa", std::string(isa_name(run.execution.isa)));
   root.attr("threads", static_cast<std::int64_t>(run.execution.threads));
   root.attr("chains", static_cast<std::int64_t>(run.execution.chains));
@@ -130,36 +185,48 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   root.attr("command_line", run.command_line);
   root.attr("started", run.started);
   root.attr("finished", run.finished);
+  root.attr("sessions", run.sessions);
 
-  write_phase(root.create_group("initial"), run.initial);
-
-  std::vector<Phase> final_points(n);
-  for (std::size_t i = 0; i < n; ++i) final_points[i] = model.phase(e, i);
-  const auto final_group = root.create_group("final");
-  write_phase(final_group, final_points);
-  std::vector<double> times(n);
-  for (std::size_t i = 0; i < n; ++i) times[i] = model.time(e, i);
-  final_group.write("t", times);
-  const auto state = final_group.create_group("state");
-  state.attr("step", static_cast<std::int64_t>(e.step));
-  const auto names = model.state_names();
-  for (std::size_t k = 0; k < names.size(); ++k)
-    state.write(std::string(names[k]), e.state[k].span().first(n));
+  const auto& inv_names = model.invariant_names();
+  if (run.per_orbit) {
+    const auto final_group = root.create_group("final");
+    write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
+                   {final_group, "p2"}, {final_group, "t"}},
+                  n, [&](std::size_t first, std::size_t count, auto& values) {
+                    for (std::size_t i = 0; i < count; ++i) {
+                      const Phase p = model.phase(e, first + i);
+                      for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
+                      values[4][i] = model.time(e, first + i);
+                    }
+                  });
+    const auto state = final_group.create_group("state");
+    state.attr("step", static_cast<std::int64_t>(e.step));
+    const auto names = model.state_names();
+    for (std::size_t k = 0; k < names.size(); ++k)
+      state.write(std::string(names[k]), e.state[k].span().first(n));
+  }
 
   const auto invariants = root.create_group("invariants");
-  const auto& inv_names = model.invariant_names();
-  std::vector<std::vector<double>> finals(inv_names.size(), std::vector<double>(n));
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto v = model.invariants(e, i);
-    for (std::size_t k = 0; k < v.size(); ++k) finals[k][i] = v[k];
+  std::vector<h5::Group> groups;
+  for (const auto& name : inv_names) groups.push_back(invariants.create_group(name));
+  if (run.per_orbit) {
+    std::vector<Column> finals;
+    for (std::size_t k = 0; k < inv_names.size(); ++k) {
+      groups[k].write("initial", e.invariant_initial[k].span().first(n));
+      finals.push_back({groups[k], "final"});
+    }
+    write_columns(finals, n, [&](std::size_t first, std::size_t count, auto& values) {
+      for (std::size_t i = 0; i < count; ++i) {
+        const auto v = model.invariants(e, first + i);
+        for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
+      }
+    });
+    for (std::size_t k = 0; k < inv_names.size(); ++k)
+      groups[k].write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
   }
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    const auto g = invariants.create_group(inv_names[k]);
-    g.write("initial", e.invariant_initial[k].span().first(n));
-    g.write("final", finals[k]);
-    g.write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
     const DriftHistogram drift = drift_histogram(e, k);
-    const auto dg = g.create_group("drift_histogram");
+    const auto dg = groups[k].create_group("drift_histogram");
     write_histogram(dg, drift.histogram, "counts");
     dg.attr("zero", drift.zero);
   }
@@ -178,6 +245,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   }
   if (run.observers) write_observers(root, *run.observers, run.plan.stride);
 
+  if (!run.per_orbit) return;
   const auto escape = root.create_group("escape");
   escape.write("step", e.escape_step.span().first(n));
   escape.write("reason", e.escape_reason.span().first(n));

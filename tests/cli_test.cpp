@@ -2,6 +2,9 @@
 // the right exit code, no file left behind), `qmaps orbit` output, --help and --simd; every
 // ensemble kind and its bad input; list, info and check.
 #include <gtest/gtest.h>
+#include <pty.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -47,6 +50,40 @@ TEST_F(Cli, SmallRunWritesFileAndOneLineSummary) {
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
   EXPECT_TRUE(fs::is_regular_file(output));
   EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
+}
+
+// What `qmaps run cfg.toml <extra>` prints on a terminal (a pseudo-terminal as stdout and stderr).
+std::string run_on_terminal(const TempDir& dir, std::vector<std::string> extra) {
+  extra.insert(extra.begin(), {QMAPS_BINARY, "run", "cfg.toml"});
+  int terminal = -1;
+  const pid_t pid = forkpty(&terminal, nullptr, nullptr, nullptr);
+  if (pid < 0) throw std::runtime_error("forkpty failed");
+  if (pid == 0) {
+    std::vector<char*> argv;
+    for (auto& a : extra) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    if (chdir(dir.path().c_str()) == 0) execv(QMAPS_BINARY, argv.data());
+    _exit(127);
+  }
+  std::string text;
+  char buffer[4096];
+  for (ssize_t n; (n = read(terminal, buffer, sizeof buffer)) > 0;) text.append(buffer, n);
+  close(terminal);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << text;
+  return text;
+}
+
+TEST_F(Cli, TerminalShowsProgressUnlessQuietAndAlwaysTheSummary) {
+  write_text(dir / "cfg.toml", config);
+  const std::string shown = run_on_terminal(dir, {});
+  for (const char* part : {"\rqmaps: step 50 of 50  100.0%", "particle-steps/s", "s elapsed", "ETA",
+                           "qmaps: suris, 100 orbits x 50 steps in "})
+    EXPECT_TRUE(Contains(shown, part));
+  const std::string quiet = run_on_terminal(dir, {"--quiet"});
+  EXPECT_FALSE(Contains(quiet, "qmaps: step "));
+  EXPECT_TRUE(Contains(quiet, "qmaps: suris, 100 orbits x 50 steps in "));
 }
 
 TEST_F(Cli, OutOptionOverridesConfigFile) {
@@ -146,6 +183,9 @@ TEST_F(Cli, MapErrorsNameTheConfigSectionAndNumbersExactly) {
 TEST_F(Cli, EnsembleLargerThanMemoryIsAUsageErrorNotACrash) {
   expect_rejected(run_config(config, {"--set", "ensemble.orbits=10000000000000"}), 2,
                   {"10000000000000 orbits need about", "GiB; this machine has"});
+  // Suris: 89 bytes per orbit (state 32, escape 9, invariant tracking 3 × 16), 8.9e14 bytes.
+  expect_rejected(run_config(config, {"--set", "ensemble.orbits=10000000000000"}), 2,
+                  {"need about 8.29e+05 GiB"});
 }
 
 TEST_F(Cli, BadObserverConfigurationIsRejectedNamingTheKey) {
@@ -203,7 +243,7 @@ TEST_F(Cli, HelpExitsZeroAndListsOptions) {
   for (const char* s : {"run", "orbit", "--version"}) EXPECT_TRUE(Contains(top.out, s));
   const Result run_help = run({"run", "--help"}, dir);
   EXPECT_EQ(run_help.status, 0);
-  for (const char* s : {"config", "--set", "--out", "--threads", "--simd", "--quiet"})
+  for (const char* s : {"config", "--resume", "--set", "--out", "--threads", "--simd", "--quiet"})
     EXPECT_TRUE(Contains(run_help.out, s));
   const Result orbit_help = run({"orbit", "--help"}, dir);
   EXPECT_EQ(orbit_help.status, 0);

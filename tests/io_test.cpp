@@ -94,6 +94,10 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_EQ(root.attr_string("qmaps_version"), build::version);
   EXPECT_EQ(root.attr_string("git_commit"), build::commit);
   EXPECT_EQ(root.attr_string("compiler"), build::compiler);
+  EXPECT_EQ(root.attr_string("compiler_flags"), build::engine_flags);
+  EXPECT_TRUE(Contains(root.attr_string("compiler_flags"), "-ffp-contract=off"));
+  EXPECT_EQ(root.attr_string("kernel_flags"), build::kernel_flags);
+  EXPECT_EQ(root.attr_int64("per_orbit"), 1);
   EXPECT_EQ(root.attr_string("map"), "suris");
   EXPECT_EQ(root.attr_double("param.A"), 0.7);
   EXPECT_EQ(root.attr_double("param.B"), 0.3);
@@ -125,6 +129,10 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_TRUE(std::regex_match(root.attr_string("started"), iso));
   EXPECT_TRUE(std::regex_match(root.attr_string("finished"), iso));
   EXPECT_LE(root.attr_string("started"), root.attr_string("finished"));
+  // One session: steps 0-50, the path, the threads, its start and end, the command line.
+  EXPECT_EQ(root.attr_string("sessions"),
+            "steps 0-50, scalar, 1 thread, " + root.attr_string("started") + " to " +
+                root.attr_string("finished") + ": " + root.attr_string("command_line") + "\n");
 }
 
 // Names, types and shapes are checked against docs/hdf5-schema.md by tests/schema_test.py; here
@@ -145,6 +153,21 @@ TEST_F(Io, GroupsHoldTheRun) {
   }
   EXPECT_EQ(root.open_group("escape").attr_string("reason_codes"),
             "0 none, 1 non-finite, 2 beyond bound, 3 solver did not converge, 4 solver derivative vanished, 5 solver root off the physical branch");
+}
+
+TEST_F(Io, WithoutPerOrbitDatasetsOnlyHistogramsAreWritten) {
+  const auto full = run_root();
+  const auto root = run_root({"--set", "output.per_orbit=false"}, dir / "small.h5");
+  EXPECT_EQ(root.attr_int64("per_orbit"), 0);
+  EXPECT_EQ(root.attr_int64("escaped"), full.attr_int64("escaped"));
+  EXPECT_EQ(root.members(), (std::vector<std::string>{"invariants"}));
+  for (const auto& name : kInvariants) {
+    const auto g = root.open_group("invariants").open_group(name);
+    EXPECT_EQ(g.members(), (std::vector<std::string>{"drift_histogram"}));
+    EXPECT_EQ(g.open_group("drift_histogram").read_int64("counts"),
+              full.open_group("invariants").open_group(name).open_group("drift_histogram")
+                  .read_int64("counts"));
+  }
 }
 
 TEST_F(Io, InitialPointsLieInTheBox) {

@@ -1,0 +1,271 @@
+// Checkpoint and resume, through the qmaps binary: a run interrupted by SIGINT or SIGTERM at a
+// random step writes <output>.ckpt, exits with ExitCode::interrupted and leaves no file under the
+// final name; resumed (with another thread count and ISA), it writes datasets identical byte for
+// byte to an uninterrupted run's. Periodic checkpoints change nothing; bad checkpoints are errors.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <map>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/h5.hpp"
+#include "core/isa.hpp"
+#include "core/version.hpp"
+#include "run_process.hpp"
+
+namespace qmaps::testing {
+namespace {
+
+constexpr int kInterrupted = static_cast<int>(ExitCode::interrupted);
+
+// Every dataset of a file, by path, as its raw bytes in the file's type.
+std::map<std::string, std::vector<char>> datasets(const std::string& path) {
+  const h5::File file = h5::File::open_read(path);
+  std::vector<std::string> names;
+  H5Ovisit(
+      file.root().id(), H5_INDEX_NAME, H5_ITER_INC,
+      [](hid_t, const char* name, const H5O_info_t* info, void* data) -> herr_t {
+        if (info->type == H5O_TYPE_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(name);
+        return 0;
+      },
+      &names);
+  std::map<std::string, std::vector<char>> out;
+  for (const auto& name : names) {
+    h5::Handle set(H5Dopen2(file.root().id(), name.c_str(), H5P_DEFAULT), H5Dclose);
+    h5::Handle type(H5Dget_type(set.id()), H5Tclose);
+    h5::Handle space(H5Dget_space(set.id()), H5Sclose);
+    auto& bytes = out[name];
+    bytes.resize(static_cast<std::size_t>(H5Sget_simple_extent_npoints(space.id())) *
+                 H5Tget_size(type.id()));
+    if (!bytes.empty()) {
+      EXPECT_GE(H5Dread(set.id(), type.id(), H5S_ALL, H5S_ALL, H5P_DEFAULT, bytes.data()), 0);
+    }
+  }
+  return out;
+}
+
+// EXPECT_TRUE(SameDatasets(a, b)): the same dataset paths (or, for a `subset`, some of b's), each
+// with the same bytes.
+::testing::AssertionResult SameDatasets(const std::string& a, const std::string& b,
+                                        bool subset = false) {
+  const auto x = datasets(a), y = datasets(b);
+  if (x.empty()) return ::testing::AssertionFailure() << a << " has no dataset";
+  if (subset ? x.size() > y.size() : x.size() != y.size())
+    return ::testing::AssertionFailure() << x.size() << " datasets against " << y.size();
+  for (const auto& [name, bytes] : x) {
+    const auto it = y.find(name);
+    if (it == y.end()) return ::testing::AssertionFailure() << b << " lacks " << name;
+    if (it->second != bytes) return ::testing::AssertionFailure() << name << " differs";
+  }
+  return ::testing::AssertionSuccess() << x.size() << " datasets";
+}
+
+// The Suris preset with its observers, 10000 orbits × 3000 steps, some of them escaping.
+std::string config_text(const std::string& output) {
+  std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/suris.toml");
+  text = with_line(text, "orbits = ", "orbits = 10000");
+  text = with_line(text, "steps = ", "steps = 3000\nescape_bound = 0.9");
+  return with_line(text, "file = ", "file = \"" + output + "\"");
+}
+
+// An ISA other than the default one, for the resumed session: sse2 when it runs here, else scalar.
+std::string other_isa() {
+  for (Isa isa : runnable_isas())
+    if (isa != best_isa()) return std::string(isa_name(isa));
+  return "scalar";
+}
+
+class Checkpoint : public ::testing::Test {
+ protected:
+  static inline TempDir* shared = nullptr;  // the uninterrupted run, made once
+  TempDir dir;
+  const std::string output = dir / "run.h5";
+  const std::string checkpoint = output + ".ckpt";
+
+  static void SetUpTestSuite() {
+    shared = new TempDir;
+    write_text(*shared / "cfg.toml", config_text("reference.h5"));
+    const Result r = run({"run", "cfg.toml"}, *shared);
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  static void TearDownTestSuite() { delete shared; }
+  static std::string reference() { return *shared / "reference.h5"; }
+
+  void SetUp() override { write_text(dir / "cfg.toml", config_text(output)); }
+
+  // Starts the run with checkpoints every `every` steps, waits for the first checkpoint (a random
+  // step of the run), sends `sig`, and checks what an interrupted run leaves.
+  Result interrupt(long long every, int sig, std::vector<std::string> extra = {}) {
+    extra.insert(extra.begin(),
+                 {"run", "cfg.toml", "--set", "run.checkpoint_every=" + std::to_string(every)});
+    const pid_t pid = spawn(extra, dir);
+    for (int i = 0; i < 4000 && !fs::exists(checkpoint); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    kill(pid, sig);
+    const Result r = finish(pid, dir);
+    EXPECT_EQ(r.status, kInterrupted) << "the run ended before the signal: " << r.err;
+    EXPECT_TRUE(Contains(r.err, std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " at step "));
+    EXPECT_TRUE(Contains(r.err, "qmaps run --resume " + checkpoint));
+    EXPECT_FALSE(fs::exists(output));
+    EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
+    EXPECT_TRUE(fs::exists(checkpoint));
+    return r;
+  }
+
+  Result resume(std::vector<std::string> extra = {}) {
+    extra.insert(extra.begin(), {"run", "--resume", checkpoint});
+    return run(extra, dir);
+  }
+};
+
+TEST_F(Checkpoint, InterruptedBySigintAndResumedElsewhereEqualsUninterruptedRun) {
+  std::mt19937 random(std::random_device{}());
+  const long long every = std::uniform_int_distribution<long long>(20, 600)(random);
+  SCOPED_TRACE("checkpoint_every = " + std::to_string(every));
+  interrupt(every, SIGINT);
+  const Result r = resume({"--threads", "1", "--simd", other_isa()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(checkpoint)) << "the checkpoint goes once the file is written";
+  EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
+  EXPECT_TRUE(SameDatasets(output, reference()));
+  const auto root = h5::File::open_read(output).root();
+  EXPECT_EQ(root.attr_string("isa"), other_isa());
+  EXPECT_EQ(root.attr_int64("threads"), 1);
+}
+
+TEST_F(Checkpoint, InterruptedBySigtermTwiceAndResumedEqualsUninterruptedRun) {
+  interrupt(100, SIGTERM);
+  // The resumed run is interrupted in turn once it has written a later checkpoint.
+  const auto first = fs::last_write_time(checkpoint);
+  const pid_t pid = spawn({"run", "--resume", checkpoint}, dir);
+  for (int i = 0; i < 4000 && fs::last_write_time(checkpoint) == first; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  kill(pid, SIGTERM);
+  const Result second = finish(pid, dir);
+  ASSERT_EQ(second.status, kInterrupted) << second.err;
+  EXPECT_FALSE(fs::exists(output));
+  const Result r = resume();
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(SameDatasets(output, reference()));
+  // Three sessions, each one line: its steps, path, threads, times and command line.
+  const std::string sessions = h5::File::open_read(output).root().attr_string("sessions");
+  EXPECT_EQ(std::count(sessions.begin(), sessions.end(), '\n'), 3) << sessions;
+  EXPECT_TRUE(Contains(sessions, "steps 0-"));
+  EXPECT_TRUE(Contains(sessions, "-3000, "));
+  EXPECT_TRUE(Contains(sessions, "run --resume " + checkpoint + "\n"));
+}
+
+TEST_F(Checkpoint, WithoutPerOrbitDatasetsResumedHistogramsEqualUninterruptedRuns) {
+  interrupt(150, SIGINT, {"--set", "output.per_orbit=false"});
+  ASSERT_EQ(resume({"--threads", "1"}).status, 0);
+  EXPECT_EQ(h5::File::open_read(output).root().attr_int64("per_orbit"), 0);
+  EXPECT_FALSE(h5::File::open_read(output).root().has("initial"));
+  EXPECT_TRUE(SameDatasets(output, reference(), true));
+}
+
+TEST_F(Checkpoint, PeriodicCheckpointsChangeNothingAndAreRemoved) {
+  const Result r = run({"run", "cfg.toml", "--set", "run.checkpoint_every=700"}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(fs::exists(checkpoint));
+  EXPECT_TRUE(SameDatasets(output, reference()));
+}
+
+TEST_F(Checkpoint, ResumedFileRecordsTheFirstSessionsProvenance) {
+  interrupt(50, SIGINT);
+  ASSERT_EQ(resume({"--threads", "1"}).status, 0);
+  const auto root = h5::File::open_read(output).root();
+  const auto original = h5::File::open_read(reference()).root();
+  EXPECT_EQ(root.attr_string("config"), read_text(dir / "cfg.toml"));
+  EXPECT_EQ(root.attr_string("command_line"),
+            std::string(QMAPS_BINARY) + " run cfg.toml --set run.checkpoint_every=50");
+  EXPECT_TRUE(Contains(root.attr_string("config_resolved"), "checkpoint_every = 50"));
+  for (const char* name : {"qmaps_version", "git_commit", "compiler", "compiler_flags", "kernel_flags"})
+    EXPECT_EQ(root.attr_string(name), original.attr_string(name)) << name;
+  EXPECT_EQ(root.attr_string("compiler_flags"), build::engine_flags);
+  EXPECT_TRUE(Contains(root.attr_string("compiler_flags"), "-ffp-contract=off"));
+  EXPECT_LE(root.attr_string("started"), root.attr_string("finished"));
+  const std::string sessions = root.attr_string("sessions");
+  EXPECT_EQ(std::count(sessions.begin(), sessions.end(), '\n'), 2) << sessions;
+  EXPECT_TRUE(Contains(sessions, ", 1 thread, "));
+}
+
+class BadCheckpoint : public ::testing::Test {
+ protected:
+  TempDir dir;
+
+  void expect_error(const std::vector<std::string>& args, int code,
+                    const std::vector<std::string>& parts) {
+    const Result r = run(args, dir);
+    EXPECT_EQ(r.status, code) << r.err;
+    for (const auto& part : parts) EXPECT_TRUE(Contains(r.err, part));
+    EXPECT_FALSE(fs::exists(dir / "run.h5"));
+    EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
+  }
+};
+
+TEST_F(BadCheckpoint, MissingFileIsAnIoError) {
+  expect_error({"run", "--resume", "run.h5.ckpt"}, 3, {"cannot read 'run.h5.ckpt'"});
+}
+
+TEST_F(BadCheckpoint, GarbageOrTruncatedFileIsAnIoError) {
+  write_text(dir / "run.h5.ckpt", "not a checkpoint");
+  expect_error({"run", "--resume", "run.h5.ckpt"}, 3, {"'run.h5.ckpt' is not an HDF5 file"});
+  write_text(dir / "cfg.toml", preset_config("full.h5", 1000, 20));
+  ASSERT_EQ(run({"run", "cfg.toml", "--set", "run.checkpoint_every=10"}, dir).status, 0);
+  // A checkpoint cut short: the final file of that run, truncated.
+  const std::string text = read_text(dir / "full.h5");
+  write_text(dir / "run.h5.ckpt", text.substr(0, text.size() / 2));
+  expect_error({"run", "--resume", "run.h5.ckpt"}, 3, {"run.h5.ckpt"});
+}
+
+TEST_F(BadCheckpoint, FinalFileIsNoCheckpoint) {
+  write_text(dir / "cfg.toml", preset_config("run.h5", 100, 5));
+  ASSERT_EQ(run({"run", "cfg.toml"}, dir).status, 0);
+  fs::rename(dir / "run.h5", dir / "x.h5.ckpt");
+  const Result r = run({"run", "--resume", "x.h5.ckpt"}, dir);
+  EXPECT_EQ(r.status, 3);
+  EXPECT_TRUE(Contains(r.err, "'x.h5.ckpt' is not a checkpoint qmaps can resume"));
+  EXPECT_TRUE(Contains(r.err, "no attribute checkpoint_version"));
+  EXPECT_FALSE(fs::exists(dir / "x.h5"));
+}
+
+TEST_F(BadCheckpoint, OtherVersionIsRefusedNamingBoth) {
+  write_text(dir / "cfg.toml", preset_config("run.h5", 20000, 2000));
+  const pid_t pid = spawn({"run", "cfg.toml", "--set", "run.checkpoint_every=1"}, dir);
+  for (int i = 0; i < 4000 && !fs::exists(dir / "run.h5.ckpt"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  kill(pid, SIGINT);
+  ASSERT_EQ(finish(pid, dir).status, kInterrupted);
+  {
+    h5::Handle file(H5Fopen((dir / "run.h5.ckpt").c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    ASSERT_GE(file.id(), 0);
+    h5::Group(h5::Handle(H5Gopen2(file.id(), "/", H5P_DEFAULT), H5Gclose), "/")
+        .attr("checkpoint_version", std::int64_t{99});
+  }
+  expect_error({"run", "--resume", "run.h5.ckpt"}, 3,
+               {"checkpoint version 99", "resumes checkpoint version 1"});
+}
+
+TEST_F(BadCheckpoint, ResumeWithConfigSetOrOtherNameIsAUsageError) {
+  write_text(dir / "cfg.toml", preset_config("run.h5"));
+  expect_error({"run", "cfg.toml", "--resume", "run.h5.ckpt"}, 2, {"give no config, --set or --out"});
+  expect_error({"run", "--resume", "run.h5.ckpt", "--set", "run.steps=3"}, 2, {"give no config"});
+  expect_error({"run", "--resume", "run.h5"}, 2, {"a checkpoint is named <output>.ckpt"});
+  expect_error({"run"}, 2, {"needs a config file, or --resume"});
+}
+
+TEST_F(BadCheckpoint, NegativeCheckpointEveryIsAUsageError) {
+  write_text(dir / "cfg.toml", preset_config("run.h5"));
+  expect_error({"run", "cfg.toml", "--set", "run.checkpoint_every=-1"}, 2,
+               {"--set run.checkpoint_every must be >= 0"});
+}
+
+}  // namespace
+}  // namespace qmaps::testing
