@@ -178,12 +178,14 @@ struct Case3 {
       c4 = a5;
       c3 = a5 * v;
       c2 = ops::fma(a5, v2, a3);
-      c1 = ops::fma(a3, v, ops::fma(c3, v2, V(1.0)));
-      c0 = ops::fma(a3, v2, ops::fma(c3 * v, v2, r));
-      s3 = V(4.0) * a5;
-      s2 = V(3.0) * c3;
+      c1 = ops::fma(c2, v, V(1.0));  // 1 + a3v + a5v³
+      c0 = ops::fma(c2, v2, r);      // r + a3v² + a5v⁴
+      // 4a5, 3c3, 2c2 and 6a5 by exact doublings and one rounded sum each (= the products)
+      const V two_a5 = a5 + a5;
+      s3 = two_a5 + two_a5;
+      s2 = c3 + (c3 + c3);
       s1 = c2 + c2;
-      h2 = V(6.0) * a5;
+      h2 = s3 + two_a5;
       // Störmer–Verlet: 2u − v + c(2λu − 6Au⁵ − 10αu⁹) = −(r + u⁵(6Ac + 10αc u⁴))
       guess = ops::neg(ops::fma(ops::fma(V(c.ten_alphac), u4, V(c.six_Ac)), u5, r));
     }
