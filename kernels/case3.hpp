@@ -6,11 +6,11 @@
 //   Each u_k (k = 1, 2) follows its own two-step scheme; with v = u_{k,n−1}, u = u_{k,n},
 //   w = u_{k,n+1} and c = ds²:
 //     (w − 2u + v)/c = 2λu − 2Au³(w² + wv + v²) − 2αu⁵(w⁴ + w³v + w²v² + wv³ + v⁴)
-//   a quartic P(w) = 0 solved by Newton from the Störmer–Verlet predictor
-//   w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹): two corrections, then more until both components'
-//   |Δw| ≤ 2⁻³⁰(1 + |w|) (one division per iteration serves both). A lane stops exactly where the
-//   scalar path stops. Faults are escapes: no convergence in 40 iterations, P' = 0, or P' ≤ 0 at
-//   the root (not the branch through 2u − v, where P' → 1).
+//   a quartic P(w) = 0 solved by Halley's method, Δw = P P′/(P′² − P P″/2), from the
+//   Störmer–Verlet predictor w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹): two corrections, then more
+//   until both components' |Δw| ≤ 2⁻²⁰(1 + |w|). A lane stops exactly where the scalar path
+//   stops. Faults are escapes: no convergence in 40 corrections, P′ = 0 or P′² − P P″/2 = 0 at an
+//   iterate, or P′ ≤ 0 at the root (not the branch through 2u − v, where P′ → 1).
 //   Physical time: t_{n+2} = t_{n+1} + ds(r²_{n+1} + r²_{n+2})/2 (t_order = 2, trapezoid) or
 //   t_{n+1} + ds r²_{n+1} (t_order = 1, the paper's left rule).
 //   Invariants: I_k = ½((w − u)/ds)² − λuw + A u³w³ + α u⁵w⁵ on (u, w) = (u_{k,n}, u_{k,n+1});
