@@ -61,8 +61,8 @@ struct Case3 {
       throw usage_error("case3: t_order must be 1 (left point) or 2 (trapezoid), got " +
                         number_text(order));
     const double c = ds * ds;
-    return {A,         alpha,      ds,     c,      2 * A * c, 2 * alpha * c,
-            6 * A * c, 10 * alpha * c, 1 / ds, ds / 2, order == 2};
+    return {A,      alpha,  ds,   c, 2 * A * c, 2 * alpha * c, 6 * A * c, 10 * alpha * c,
+            1 / ds, ds / 2, order == 2};
   }
 
   static std::vector<std::string> invariant_names(const Coeffs&) { return {"I_1", "I_2"}; }
