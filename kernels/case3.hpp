@@ -6,11 +6,11 @@
 //   Each u_k (k = 1, 2) follows its own two-step scheme; with v = u_{k,n−1}, u = u_{k,n},
 //   w = u_{k,n+1} and c = ds²:
 //     (w − 2u + v)/c = 2λu − 2Au³(w² + wv + v²) − 2αu⁵(w⁴ + w³v + w²v² + wv³ + v⁴)
-//   a quartic P(w) = 0 solved by Newton from the Störmer–Verlet predictor
-//   w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹): two corrections, then more until both components'
-//   |Δw| ≤ 2⁻³⁰(1 + |w|) (one division per iteration serves both). A lane stops exactly where the
-//   scalar path stops. Faults are escapes: no convergence in 40 iterations, P' = 0, or P' ≤ 0 at
-//   the root (not the branch through 2u − v, where P' → 1).
+//   a quartic P(w) = 0 solved by Halley's method, Δw = P P′/(P′² − P P″/2), from the
+//   Störmer–Verlet predictor w0 = 2u − v + c(2λu − 6Au⁵ − 10αu⁹): two corrections, then more
+//   until both components' |Δw| ≤ 2⁻²⁰(1 + |w|). A lane stops exactly where the scalar path
+//   stops. Faults are escapes: no convergence in 40 corrections, P′ = 0 or P′² − P P″/2 = 0 at an
+//   iterate, or P′ ≤ 0 at the root (not the branch through 2u − v, where P′ → 1).
 //   Physical time: t_{n+2} = t_{n+1} + ds(r²_{n+1} + r²_{n+2})/2 (t_order = 2, trapezoid) or
 //   t_{n+1} + ds r²_{n+1} (t_order = 1, the paper's left rule).
 //   Invariants: I_k = ½((w − u)/ds)² − λuw + A u³w³ + α u⁵w⁵ on (u, w) = (u_{k,n}, u_{k,n+1});
@@ -54,7 +54,7 @@ struct Case3 {
 
   struct Coeffs {
     double A, alpha, ds;
-    double c, two_Ac, two_alphac;  // ds², 2A ds², 2α ds²
+    double c, two_Ac, two_alphac, six_Ac, ten_alphac;  // ds², 2A ds², 2α ds², 6A ds², 10α ds²
     double inv_ds, half_ds;
     bool trapezoid;
   };
@@ -66,7 +66,8 @@ struct Case3 {
       throw usage_error("case3: t_order must be 1 (left point) or 2 (trapezoid), got " +
                         number_text(order));
     const double c = ds * ds;
-    return {A, alpha, ds, c, 2 * A * c, 2 * alpha * c, 1 / ds, ds / 2, order == 2};
+    return {A,      alpha,  ds,   c, 2 * A * c, 2 * alpha * c, 6 * A * c, 10 * alpha * c,
+            1 / ds, ds / 2, order == 2};
   }
 
   // The continuous system this map discretizes (MAPS.md §0).
@@ -78,13 +79,13 @@ struct Case3 {
 
   template <class V>
   static V step(const Coeffs& c, State<V>& s) {
-    const V lambda = s[6];
+    const V minus_2c_lambda = V(-2.0 * c.c) * s[6];
     V w1, w2;
-    const V fault = solve(c, Quartic<V>(c, s[2], s[0], lambda), Quartic<V>(c, s[3], s[1], lambda),
-                          w1, w2);
+    const V fault = solve(Quartic<V>(c, s[2], s[0], minus_2c_lambda),
+                          Quartic<V>(c, s[3], s[1], minus_2c_lambda), w1, w2);
     const V r_next = radius2(s[2], s[3]), r_new = radius2(w1, w2);
     const V dt = c.trapezoid ? V(c.half_ds) * (r_next + r_new) : V(c.ds) * r_next;
-    s = {s[2], s[3], w1, w2, s[5], s[5] + dt, lambda};
+    s = {s[2], s[3], w1, w2, s[5], s[5] + dt, s[6]};
     return fault;
   }
 
@@ -171,65 +172,91 @@ struct Case3 {
   static V radius2(V a, V b) { return ops::fma(b, b, a * a); }
 
   // One component's quartic P(w) = (((c4 w + c3) w + c2) w + c1) w + c0 for u = u_{k,n},
-  // v = u_{k,n−1} (the scheme times c, expanded in w), and its predictor.
+  // v = u_{k,n−1} (the scheme times c, expanded in w), P′ and h = P″/2 as polynomials in w, and
+  // the predictor. minus_2c_lambda = −2cλ is the orbit's, shared by both components.
   template <class V>
   struct Quartic {
-    V c4, c3, c2, c1, c0, guess;
-    Quartic(const Coeffs& c, V u, V v, V lambda) {
-      const V u2 = u * u, u4 = u2 * u2, u3 = u2 * u;
-      const V a3 = V(c.two_Ac) * u3, a5 = V(c.two_alphac) * (u4 * u);
+    V c4, c3, c2, c1, c0;  // P
+    V s3, s2, s1;          // P′ = ((s3 w + s2) w + s1) w + c1
+    V h2;                  // h = (h2 w + s2) w + c2
+    V guess;
+    Quartic(const Coeffs& c, V u, V v, V minus_2c_lambda) {
+      const V u2 = u * u, u4 = u2 * u2, u3 = u2 * u, u5 = u4 * u;
+      const V a3 = V(c.two_Ac) * u3, a5 = V(c.two_alphac) * u5;
       const V v2 = v * v;
-      const V r = ops::fma(V(-2.0 * c.c), lambda * u, v - V(2.0) * u);  // v − 2u − 2cλu
+      const V r = ops::fma(minus_2c_lambda, u, v - (u + u));  // v − 2u − 2cλu
       c4 = a5;
       c3 = a5 * v;
       c2 = ops::fma(a5, v2, a3);
-      c1 = ops::fma(a3, v, ops::fma(c3, v2, V(1.0)));
-      c0 = ops::fma(a3, v2, ops::fma(c3 * v, v2, r));
-      // Störmer–Verlet: 2u − v + c(2λu − 6Au⁵ − 10αu⁹) = −(r + 3a3u² + 5a5u⁴)
-      guess = ops::neg(ops::fma(V(3.0) * a3, u2, ops::fma(V(5.0) * a5, u4, r)));
+      c1 = ops::fma(c2, v, V(1.0));  // 1 + a3v + a5v³
+      c0 = ops::fma(c2, v2, r);      // r + a3v² + a5v⁴
+      // 4a5, 3c3, 2c2 and 6a5 by exact doublings and one rounded sum each (= the products)
+      const V two_a5 = a5 + a5;
+      s3 = two_a5 + two_a5;
+      s2 = c3 + (c3 + c3);
+      s1 = c2 + c2;
+      h2 = s3 + two_a5;
+      // Störmer–Verlet: 2u − v + c(2λu − 6Au⁵ − 10αu⁹) = −(r + u⁵(6Ac + 10αc u⁴))
+      guess = ops::neg(ops::fma(ops::fma(V(c.ten_alphac), u4, V(c.six_Ac)), u5, r));
     }
-    // P(w) and P'(w) in Estrin's form: short dependency chains, for Newton is latency-bound
-    void at(V w, V& value, V& slope) const {
+    // Halley's correction Δ = P P′ / (P′² − P h) at w, in Estrin's form (short dependency
+    // chains). `degenerate`: the divisor or P′ vanished.
+    struct Correction {
+      V delta, slope;
+      ops::mask_t<V> degenerate;
+    };
+    Correction halley(V w) const {
       const V w2 = w * w;
-      value = ops::fma(ops::fma(c4, w2, ops::fma(c3, w, c2)), w2, ops::fma(c1, w, c0));
-      slope = ops::fma(ops::fma(V(4.0) * c4, w, V(3.0) * c3), w2, ops::fma(V(2.0) * c2, w, c1));
+      const V value = ops::fma(ops::fma(c4, w2, ops::fma(c3, w, c2)), w2, ops::fma(c1, w, c0));
+      const V slope = ops::fma(ops::fma(s3, w, s2), w2, ops::fma(s1, w, c1));
+      const V h = ops::fma(h2, w2, ops::fma(s2, w, c2));
+      const V divisor = ops::fms(slope, slope, value * h), none(0.0);
+      return {value * slope / divisor, slope,
+              static_cast<ops::mask_t<V>>((divisor == none) | (slope == none))};
     }
   };
 
-  // Newton on both components at once, one division per iteration: Δw1 = P1 P2' / (P1' P2'),
-  // Δw2 = P2 P1' / (P1' P2'). Two corrections, then more while either |Δw| > 2⁻³⁰(1 + |w|);
-  // convergence is quadratic with a constant |P''/2P'| = O(ds²), so the error left after a
-  // correction of 2⁻³⁰ is below round-off. Returns the fault codes.
+  // |Δw| ≤ 2⁻²⁰(1 + |w|) for the new iterate w
   template <class V>
-  static V solve(const Coeffs&, const Quartic<V>& p1, const Quartic<V>& p2, V& w1, V& w2) {
+  static ops::mask_t<V> settled(V delta, V w) {
+    const V tol(0x1p-20);
+    return ops::abs(delta) <= ops::fma(tol, ops::abs(w), tol);
+  }
+
+  // Halley on both components: two corrections on every lane, then more on the lanes where either
+  // |Δw| > 2⁻²⁰(1 + |w|). Convergence is cubic, e_{k+1} ≈ K e_k³ with K = |h²/P′² − P‴/(6P′)| =
+  // O(ds²), so the error left after a correction of 2⁻²⁰ is below round-off. Returns the fault
+  // codes.
+  template <class V>
+  static V solve(const Quartic<V>& p1, const Quartic<V>& p2, V& w1, V& w2) {
     using Mask = ops::mask_t<V>;
-    const V none(0.0), tol(0x1p-30);
     w1 = p1.guess;
     w2 = p2.guess;
-    Mask active = none == none, flat = none != none;
-    V s1(1.0), s2(1.0);
-    for (int it = 0; it < max_iterations; ++it) {
-      V v1, v2;
-      p1.at(w1, v1, s1);
-      p2.at(w2, v2, s2);
-      const V both = s1 * s2;
-      flat = flat | (active & (both == none));
-      const V inv = V(1.0) / both;
-      const V dw1 = v1 * s2 * inv, dw2 = v2 * s1 * inv;
-      const V n1 = w1 - dw1, n2 = w2 - dw2;
-      if (it == 0) {
-        w1 = n1;
-        w2 = n2;
-        continue;
-      }
+    const V none(0.0);
+    Mask flat = none != none, done = flat;
+    V slope1, slope2;
+    for (int it = 0; it < 2; ++it) {
+      const auto d1 = p1.halley(w1), d2 = p2.halley(w2);
+      flat = flat | d1.degenerate | d2.degenerate;
+      w1 = w1 - d1.delta;
+      w2 = w2 - d2.delta;
+      slope1 = d1.slope;
+      slope2 = d2.slope;
+      done = settled(d1.delta, w1) & settled(d2.delta, w2);
+    }
+    Mask active = ops::negate(done | flat);
+    for (int it = 2; it < max_iterations && ops::any(active); ++it) {
+      const auto d1 = p1.halley(w1), d2 = p2.halley(w2);
+      flat = flat | (active & (d1.degenerate | d2.degenerate));
+      const V n1 = w1 - d1.delta, n2 = w2 - d2.delta;
       w1 = ops::select(active, n1, w1);
       w2 = ops::select(active, n2, w2);
-      const Mask converged = (ops::abs(dw1) <= ops::fma(tol, ops::abs(n1), tol)) &
-                             (ops::abs(dw2) <= ops::fma(tol, ops::abs(n2), tol));
-      active = active & ops::negate(converged) & ops::negate(flat);
-      if (!ops::any(active)) break;
+      slope1 = ops::select(active, d1.slope, slope1);
+      slope2 = ops::select(active, d2.slope, slope2);
+      active = active & ops::negate((settled(d1.delta, n1) & settled(d2.delta, n2)) | flat);
     }
-    const V on_branch = ops::select((s1 > none) & (s2 > none), none, V(double(EscapeReason::wrong_branch)));
+    const V on_branch = ops::select((slope1 > none) & (slope2 > none), none,
+                                    V(double(EscapeReason::wrong_branch)));
     const V unfinished = ops::select(active, V(double(EscapeReason::no_convergence)), on_branch);
     return ops::select(flat, V(double(EscapeReason::zero_derivative)), unfinished);
   }
