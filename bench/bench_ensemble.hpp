@@ -31,8 +31,8 @@ struct BenchSize {
 
 inline const BenchSize& bench_size() {
   static const BenchSize sizes[] = {
-      {"full", 1 << 18, 1 << 14, 1000, 100, 10, 24, 256},
-      {"quick", 1 << 16, 1 << 12, 250, 25, 10, 20, 64},
+      {"full", 1 << 18, 1 << 12, 1000, 100, 10, 24, 64},
+      {"quick", 1 << 16, 1 << 10, 250, 25, 10, 20, 32},
       {"tiny", 1 << 8, 1 << 8, 4, 2, 8, 10, 4},
   };
   const char* env = std::getenv("QMAPS_BENCH_SIZE");

@@ -40,15 +40,12 @@ void run(Columns& c, long long steps) {
 }
 
 void eigen(benchmark::State& state) {
-  const auto n = static_cast<std::size_t>(state.range(0));
-  const long long steps = bench_size().steps;
-  EigenState s = to_eigen(suris_start(n));
+  EigenState s = to_eigen(suris_start(static_cast<std::size_t>(state.range(0))));
   const SurisCoeffs c = suris_coeffs();
-  for (auto _ : state) {
+  time_peer(state, "peer-eigen", QMAPS_PEER_ISA, 1, [&](long long steps) {
     step_all(s, steps, c);
     benchmark::DoNotOptimize(s.q1next.data());
-  }
-  describe(state, "peer-eigen", QMAPS_PEER_ISA, static_cast<double>(n), static_cast<double>(steps), 1);
+  });
 }
 
 }  // namespace

@@ -33,16 +33,12 @@ void run_with(Loop loop, Columns& c, long long steps, int threads) {
 }
 
 void limit(benchmark::State& state, LimitIsa isa) {
-  const auto n = static_cast<std::size_t>(state.range(0));
+  Columns c = suris_start(static_cast<std::size_t>(state.range(0)));
   const int threads = static_cast<int>(state.range(1));
-  const long long steps = bench_size().steps;
-  Columns c = suris_start(n);
-  for (auto _ : state) {
+  time_peer(state, "peer-limit", isa.name, threads, [&](long long steps) {
     run_with(isa.loop, c, steps, threads);
     benchmark::DoNotOptimize(c[2].data());
-  }
-  describe(state, "peer-limit", isa.name, static_cast<double>(n), static_cast<double>(steps),
-           threads);
+  });
 }
 
 }  // namespace

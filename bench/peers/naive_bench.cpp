@@ -38,15 +38,12 @@ void run(Columns& c, long long steps) {
 }
 
 void naive(benchmark::State& state) {
-  const auto n = static_cast<std::size_t>(state.range(0));
-  const long long steps = bench_size().steps;
-  auto orbits = to_structs(suris_start(n));
+  auto orbits = to_structs(suris_start(static_cast<std::size_t>(state.range(0))));
   const SurisCoeffs c = suris_coeffs();
-  for (auto _ : state) {
+  time_peer(state, "peer-naive", "scalar", 1, [&](long long steps) {
     step_all(orbits, steps, c);
     benchmark::DoNotOptimize(orbits.data());
-  }
-  describe(state, "peer-naive", "scalar", static_cast<double>(n), static_cast<double>(steps), 1);
+  });
 }
 
 }  // namespace

@@ -64,6 +64,16 @@ inline double suris_difference(const std::function<void(Columns&, long long)>& p
   return worst;
 }
 
+// Times `advance(steps)` (which steps the peer's orbits) and describes the result for bench/report.
+template <class Advance>
+void time_peer(benchmark::State& state, const char* peer, const char* isa, int threads,
+               Advance advance) {
+  const long long steps = bench_size().steps;
+  for (auto _ : state) advance(steps);
+  describe(state, peer, isa, static_cast<double>(state.range(0)), static_cast<double>(steps),
+           threads);
+}
+
 // A peer's way of stepping its own copy of the columns `steps` times.
 struct Peer {
   std::string name;
