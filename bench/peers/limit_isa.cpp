@@ -1,6 +1,6 @@
 // The limit: the Suris map (suris_peer.hpp) written by hand with one instruction set's intrinsics,
-// the state of K × W orbits held in registers for all the steps (W lanes, K independent chains to
-// hide the latency of the division), OpenMP over blocks:
+// the state of K × W orbits held in registers for all the steps (W lanes, K = 4 or 8 independent
+// chains to hide the latency of the division), OpenMP over blocks:
 //   z = fms(two_a·y, 1/(1 + g|y|²), x)   per component
 // Compiled twice (bench/CMakeLists.txt), each time alone with its ISA's flags:
 // QMAPS_LIMIT_BITS = 512 (-mavx512f -mfma) defines limit_avx512, 256 (-mavx2 -mfma) limit_avx2.
@@ -22,9 +22,11 @@ using Register = __m256d;
 
 namespace qmaps::peers {
 
-void QMAPS_LIMIT_NAME(double* const x[4], std::size_t n, long long steps, double two_a,
-                      double two_b, double g, int threads) {
-  constexpr int K = limit_chains;
+namespace {
+
+template <int K>
+void limit_loop(double* const x[4], std::size_t n, long long steps, double two_a, double two_b,
+                double g, int threads) {
   constexpr std::size_t W = sizeof(Register) / sizeof(double);
   constexpr std::size_t block = W * K;
 #pragma omp parallel for schedule(static) num_threads(threads)
@@ -51,6 +53,16 @@ void QMAPS_LIMIT_NAME(double* const x[4], std::size_t n, long long steps, double
       QMAPS_MM(storeu_pd)(x[2] + o, q1[k]), QMAPS_MM(storeu_pd)(x[3] + o, q2[k]);
     }
   }
+}
+
+}  // namespace
+
+void QMAPS_LIMIT_NAME(double* const x[4], std::size_t n, long long steps, double two_a,
+                      double two_b, double g, int threads, int chains) {
+  if (chains == 8)
+    limit_loop<8>(x, n, steps, two_a, two_b, g, threads);
+  else
+    limit_loop<4>(x, n, steps, two_a, two_b, g, threads);
 }
 
 }  // namespace qmaps::peers
