@@ -1,71 +1,48 @@
-// Stepping throughput of each map on each path: items_per_second = particle-steps/s.
-// Raw stepping (no invariant tracking), 1000 steps per iteration.
-//   build/bench/kernels_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+// Stepping throughput of every map on every path (scalar, each ISA compiled and supported) and
+// thread count: items_per_second = particle-steps/s. Raw stepping, no invariant tracking.
+//   build/bench/kernels_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+// The scalar path and sse2 (an exactly rounded FMA per lane, slow) step fewer orbits.
 #include <benchmark/benchmark.h>
 
 #include <string>
 
+#include "bench_maps.hpp"
 #include "core/isa.hpp"
-#include "bench_ensemble.hpp"
 #include "ensembles/catalogue.hpp"
 
 namespace qmaps {
 namespace {
 
-constexpr long long steps = 1000;
-
-struct Bench {
-  const char* map;
-  ParamValues params;
-};
-
-// Each map at the parameters of its case (A = 0.7, alpha = 0.9, step 0.1; flow and leapfrog at
-// the case IV set).
-const Bench maps[] = {
-    {"suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}}},
-    {"case2", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}}},
-    {"case2-staggered", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}}},
-    {"case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}},
-    {"case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}}},
-    {"flow", {{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2}, {"delta", 5.4}, {"h", 0.1}}},
-    {"leapfrog", {{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2}, {"delta", 5.4}, {"h", 0.1}}},
-};
-
-void step_ensemble(benchmark::State& state, const Bench& bench, Isa isa) {
+void step_ensemble(benchmark::State& state, const BenchMap& bench, Isa isa) {
   const auto orbits = static_cast<std::size_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  const auto model = make_model(bench.map, bench.params);
-  Ensemble e = bench_ensemble(*model, orbits);
+  const long long steps = bench.steps();
+  auto& setup = bench_setup(bench.map, orbits, [&] { return make_model(bench.map, bench.params); });
+  Ensemble& e = *setup.ensemble;
   for (auto _ : state) {
-    model->advance(e, next_steps(e, steps, false), Execution{isa, threads, 4});
+    setup.model->advance(e, next_steps(e, steps, false), Execution{isa, threads, 4});
     benchmark::DoNotOptimize(e.state[2][0]);
   }
-  state.SetItemsProcessed(state.iterations() * static_cast<long long>(orbits) * steps);
-  state.SetLabel(std::string(isa_name(isa)));
+  describe(state, bench.map, isa_name(isa), static_cast<double>(orbits),
+           static_cast<double>(steps), threads);
 }
 
-// Suris, the reference of every budget, at 2^18 and 2^22 orbits on every path; the other maps
-// at 2^18 on the scalar path and the best ISA. The exactly rounded per-lane FMA of sse2 is slow:
-// its large case would take minutes.
 const bool registered = [] {
-  for (const Bench& bench : maps) {
-    const std::string map = bench.map;
-    const auto add = [&](Isa isa) {
-      return benchmark::RegisterBenchmark((map + "/" + std::string(isa_name(isa))).c_str(),
-                                          step_ensemble, bench, isa)
-          ->ArgNames({"orbits", "threads"})
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime();
-    };
-    add(Isa::scalar)->Args({map == "suris" ? 1 << 18 : 1 << 14, 1});
-    for (Isa isa : runnable_isas()) {
-      if (map != "suris" && isa != best_isa()) continue;
-      auto* b = add(isa);
-      for (long orbits : {1L << 18, 1L << 22})
-        for (long threads : {1, 2})
-          if (orbits == 1L << 18 || (map == "suris" && isa != Isa::sse2)) b->Args({orbits, threads});
+  std::vector<Isa> paths = {Isa::scalar};
+  for (Isa isa : runnable_isas()) paths.push_back(isa);
+  for (const BenchMap& bench : bench_maps())
+    for (Isa isa : paths) {
+      const bool slow = isa == Isa::scalar || isa == Isa::sse2;
+      auto* b = benchmark::RegisterBenchmark(
+                    (std::string(bench.map) + "/" + std::string(isa_name(isa))).c_str(),
+                    step_ensemble, bench, isa)
+                    ->ArgNames({"orbits", "threads"})
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseRealTime();
+      const long orbits = slow ? bench_size().slow_orbits : bench_size().simd_orbits;
+      b->Args({orbits, 1});
+      if (isa != Isa::scalar) b->Args({orbits, 2});  // the scalar reference path is serial
     }
-  }
   return true;
 }();
 

@@ -1,5 +1,5 @@
-// The cost of observing: Suris on the best ISA, 2^18 orbits, 1000 steps per iteration, raw and
-// with the invariants tracked and a 128×128 (q1, q2) density sampled every `stride` steps.
+// The cost of observing: Suris on the best ISA, 2^18 orbits, 1000 steps per iteration (bench_size),
+// raw and with the invariants tracked and a 128×128 (q1, q2) density sampled every `stride` steps.
 // items_per_second = particle-steps/s; histogram_updates_per_second counts density samples.
 #include <benchmark/benchmark.h>
 
@@ -10,13 +10,12 @@
 namespace qmaps {
 namespace {
 
-constexpr long long steps = 1000;
-
 void observe(benchmark::State& state, bool invariants, bool density) {
   const long long stride = state.range(0);
   const int threads = static_cast<int>(state.range(1));
   const auto model = make_model("suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}});
-  const std::size_t orbits = 1 << 18;
+  const auto orbits = static_cast<std::size_t>(bench_size().simd_orbits);
+  const long long steps = bench_size().steps;
   Ensemble e = bench_ensemble(*model, orbits);
   Observers o;
   if (density)
@@ -25,8 +24,9 @@ void observe(benchmark::State& state, bool invariants, bool density) {
   for (auto _ : state)
     model->advance(e, next_steps(e, steps, invariants, stride), Execution{best_isa(), threads, 4},
                    density ? &o : nullptr);
-  const double orbit_steps = static_cast<double>(state.iterations()) * orbits * steps;
-  state.SetItemsProcessed(static_cast<std::int64_t>(orbit_steps));
+  describe(state, "suris", isa_name(best_isa()), static_cast<double>(orbits),
+           static_cast<double>(steps), threads);
+  state.counters["stride"] = static_cast<double>(stride);
   if (density)
     state.counters["histogram_updates_per_second"] = benchmark::Counter(
         static_cast<double>(o.densities[0].histogram.samples()), benchmark::Counter::kIsRate);

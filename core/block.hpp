@@ -111,20 +111,23 @@ template <class Map, class Arch, int K>
     if (sampling) next = std::min(next, (n / plan.stride + 1) * plan.stride);
     if (sections) next = n + 1;  // sections look at every pair of consecutive iterates
 
-    State start[K];
+    // The chunk steps a copy of the chains whose address never escapes, so that the compiler
+    // keeps it in registers (s itself is handed to the observers and lives in memory).
+    State start[K], w[K];
     V acc[K], faults[K];
     for (int k = 0; k < K; ++k) {
-      start[k] = s[k];
+      start[k] = w[k] = s[k];
       acc[k] = faults[k] = V(0.0);
     }
     for (long long j = n; j < next; ++j)
       for (int k = 0; k < K; ++k) {
-        acc[k] = acc[k] + Map::escape_measure(s[k]);
+        acc[k] = acc[k] + Map::escape_measure(w[k]);
         if constexpr (reports_faults<Map>)
-          faults[k] = faults[k] + Map::step(c, s[k]);
+          faults[k] = faults[k] + Map::step(c, w[k]);
         else
-          Map::step(c, s[k]);
+          Map::step(c, w[k]);
       }
+    for (int k = 0; k < K; ++k) s[k] = w[k];
     bool suspect = false;
     for (int k = 0; k < K; ++k) {
       acc[k] = acc[k] + Map::escape_measure(s[k]);

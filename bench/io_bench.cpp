@@ -1,0 +1,72 @@
+// Writing a run's HDF5 file (docs/hdf5-schema.md): 10^6 orbits of Suris after 10 steps with their
+// invariants tracked; each iteration writes the whole file (attributes, initial and final phase
+// points, final state, invariants, drift histograms, escapes) under a temporary name and renames
+// it, as `qmaps run` does. bytes_per_second is the file's size written per second;
+// bytes_per_orbit the file's size over the orbits.
+//   build/bench/io_bench [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
+// The file goes to $TMPDIR (or /tmp) and is removed afterwards.
+#include <benchmark/benchmark.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "bench_maps.hpp"
+#include "core/h5.hpp"
+#include "core/isa.hpp"
+#include "ensembles/box.hpp"
+#include "ensembles/catalogue.hpp"
+#include "ensembles/output.hpp"
+
+namespace qmaps {
+namespace {
+
+void write_file(benchmark::State& state) {
+  const auto orbits = static_cast<std::size_t>(state.range(0));
+  const auto model = make_model("suris", suris_params);
+  Box box;
+  box.orbits = orbits;
+  box.seed = 1;
+  box.ranges = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
+  const auto initial = box.points();
+  Ensemble e = model->start(initial, Start::taylor, 1e8);
+  RunPlan plan;
+  plan.total = plan.last = 10;
+  const Execution x{best_isa(), 2, 4};
+  model->advance(e, plan, x);
+
+  const char* tmp = std::getenv("TMPDIR");
+  const std::filesystem::path path = std::filesystem::path(tmp && *tmp ? tmp : "/tmp") /
+                                     ("qmaps-io-bench-" + std::to_string(getpid()) + ".h5");
+  std::uintmax_t bytes = 0;
+  for (auto _ : state) {
+    h5::AtomicFile output(path.string());
+    auto file = output.create_hdf5();
+    RunRecord record{*model, e, initial, plan, x, "box", box.seed, Start::taylor, "", "", "", "", ""};
+    write_run(file.root(), record);
+    file.close();
+    output.commit();
+    bytes = std::filesystem::file_size(path);
+  }
+  std::filesystem::remove(path);
+  state.SetBytesProcessed(static_cast<std::int64_t>(bytes) * state.iterations());
+  state.SetLabel("suris/hdf5");
+  state.counters["orbits"] = static_cast<double>(orbits);
+  state.counters["bytes_per_orbit"] = static_cast<double>(bytes) / static_cast<double>(orbits);
+}
+
+const bool registered = [] {
+  const long orbits = bench_size().name == "full" ? 1000000 : bench_size().simd_orbits;
+  benchmark::RegisterBenchmark("io/write_run", write_file)
+      ->ArgNames({"orbits"})
+      ->Arg(orbits)
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime();
+  return true;
+}();
+
+}  // namespace
+}  // namespace qmaps
+
+BENCHMARK_MAIN();
