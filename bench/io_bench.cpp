@@ -16,6 +16,7 @@
 #include "core/h5.hpp"
 #include "core/isa.hpp"
 #include "ensembles/box.hpp"
+#include "ensembles/initial_conditions.hpp"
 #include "ensembles/catalogue.hpp"
 #include "ensembles/output.hpp"
 
@@ -25,11 +26,8 @@ namespace {
 void write_file(benchmark::State& state) {
   const auto orbits = static_cast<std::size_t>(state.range(0));
   const auto model = make_model("suris", suris_params);
-  Box box;
-  box.orbits = orbits;
-  box.seed = 1;
-  box.ranges = {{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}};
-  const auto initial = box.points();
+  const Box box({{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}}, 1, orbits);
+  const auto initial = generate(box).points;
   Ensemble e = model->start(initial, Start::taylor, 1e8);
   RunPlan plan;
   plan.total = plan.last = 10;
@@ -43,7 +41,13 @@ void write_file(benchmark::State& state) {
   for (auto _ : state) {
     h5::AtomicFile output(path.string());
     auto file = output.create_hdf5();
-    RunRecord record{*model, e, initial, plan, x, "box", box.seed, Start::taylor, "", "", "", "", ""};
+    const auto initial_group = file.root().create_group("initial");
+    create_phase(initial_group, orbits);
+    for (std::size_t first = 0; first < orbits; first += orbits_per_part)
+      write_phase_part(initial_group, first,
+                       std::span(initial).subspan(first, std::min(orbits_per_part, orbits - first)));
+    RunRecord record{*model, e, plan, x, "box", box.seed(), Start::taylor};
+    record.ensemble_description = box.description();
     write_run(file.root(), record);
     file.close();
     output.commit();
