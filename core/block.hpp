@@ -95,20 +95,24 @@ template <class Map, class Arch, int K>
   InvariantTrack<Map, V> track[K];
   for (int k = 0; k < K; ++k) track[k].load(e, first + k * W);
   const V bound2(plan.escape_bound2());
+  // Decided once for the block: what is sampled, and which coordinates the observers read.
   const bool sections = observers && !observers->sections.empty();
+  const bool densities = observers && !observers->densities.empty();
+  const bool density_momentum = densities && observers->densities_need_momentum();
+  const bool section_momentum = sections && observers->sections_need_momentum();
   std::array<V, 5> before[K];
-  if (observers) {
-    for (int k = 0; k < K; ++k) {
-      if (plan.first == 0) sample_densities<Map>(c, s[k], alive[k], *observers);
-      if (sections)
-        before[k] = node_values<Map>(c, s[k], observers->sections_need_momentum());
-    }
+  for (int k = 0; k < K; ++k) {
+    if (densities && plan.first == 0)
+      sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
+    if (sections) before[k] = node_values<Map>(c, s[k], section_momentum);
   }
-  const bool sampling = plan.track_invariants || observers;
+  const bool sampling = plan.track_invariants || densities;
+  // The next multiple of the stride (plan.samples_at without a division per chunk).
+  long long next_multiple = (plan.first / plan.stride + 1) * plan.stride;
 
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
-    if (sampling) next = std::min(next, (n / plan.stride + 1) * plan.stride);
+    if (sampling) next = std::min(next, next_multiple);
     if (sections) next = n + 1;  // sections look at every pair of consecutive iterates
 
     State start[K];
@@ -152,11 +156,14 @@ template <class Map, class Arch, int K>
     n = next;
     if (sections)
       for (int k = 0; k < K; ++k)
-        check_sections<Map>(c, s[k], alive[k], *observers, first + k * W, n, before[k]);
-    if (sampling && plan.samples_at(n))
+        check_sections<Map>(c, s[k], alive[k], *observers, section_momentum, first + k * W, n,
+                            before[k]);
+    const bool at_multiple = n == next_multiple;
+    if (at_multiple) next_multiple += plan.stride;
+    if (sampling && (at_multiple || n == plan.total))
       for (int k = 0; k < K; ++k) {
         if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
-        if (observers) sample_densities<Map>(c, s[k], alive[k], *observers);
+        if (densities) sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
       }
   }
   for (int k = 0; k < K; ++k) {

@@ -39,6 +39,8 @@ std::int64_t Histogram::samples() const {
                          std::int64_t{0});
 }
 
+void Histogram::add(const double* x) { add_lanes<double>(x, true); }
+
 void Histogram::merge(const Histogram& other) {
   for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
 }

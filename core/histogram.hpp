@@ -27,26 +27,15 @@ class Histogram {
   Histogram(std::string name, std::vector<Axis> axes);
 
   // One sample: a value per axis.
-  void add(const double* x) { add_lanes<double>(x, true); }
+  void add(const double* x);  // add_lanes<double>(x, true)
 
   // One sample per alive lane of V: the values of axis k in x[k]. Each lane's slot (its cell, or
   // the underflow, overflow or discard tally past the cells) is computed in V with the same
   // arithmetic for double, so every path bins alike; then one increment per lane, no branches.
   template <class V>
   void add_lanes(const V* x, ops::mask_t<V> alive) {
-    // no lane, every lane (comparing masks themselves is unsafe: sse2 compares their NaN bits)
-    ops::mask_t<V> below = V(0.0) != V(0.0), inside = V(0.0) == V(0.0);
-    V cell(0.0);  // row-major: ((i0) · bins1 + i1), exact in doubles
-    for (int k = 0; k < rank_; ++k) {
-      below = below | (x[k] < V(lo_[k]));
-      inside = inside & (x[k] < V(hi_[k]));
-      const V f = ops::floor((x[k] - V(lo_[k])) * V(scale_[k]));  // rounding may give bins
-      cell = cell * V(static_cast<double>(bins_[k])) + ops::min(f, V(last_[k]));
-    }
-    const V tally = ops::select(below, V(tally_underflow()), V(tally_overflow()));
-    const V slot = ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
-                               V(tally_discard()));
-    for (const double s : ops::lanes_of(slot)) ++counts_[static_cast<std::size_t>(s)];
+    const auto slots = ops::integer_lanes(rank_ == 2 ? slot<2>(x, alive) : slot<1>(x, alive));
+    for (const std::uint64_t s : slots) ++counts_[s];
   }
 
   void merge(const Histogram& other);
@@ -70,6 +59,22 @@ class Histogram {
   std::int64_t bins_[2] = {1, 1};
   std::size_t cells_ = 1;
   std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+
+  template <int rank, class V>
+  V slot(const V* x, ops::mask_t<V> alive) const {
+    ops::mask_t<V> below = x[0] < V(lo_[0]), inside = x[0] < V(hi_[0]);
+    // row-major: i0 · bins1 + i1, exact in doubles; rounding may give f = bins, hence the min
+    V cell = ops::min(ops::floor((x[0] - V(lo_[0])) * V(scale_[0])), V(last_[0]));
+    if constexpr (rank == 2) {
+      below = below | (x[1] < V(lo_[1]));
+      inside = inside & (x[1] < V(hi_[1]));
+      const V f = ops::floor((x[1] - V(lo_[1])) * V(scale_[1]));
+      cell = cell * V(static_cast<double>(bins_[1])) + ops::min(f, V(last_[1]));
+    }
+    const V tally = ops::select(below, V(tally_underflow()), V(tally_overflow()));
+    return ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
+                       V(tally_discard()));
+  }
 
   double tally_underflow() const { return static_cast<double>(cells_); }
   double tally_overflow() const { return static_cast<double>(cells_ + 1); }
