@@ -31,6 +31,8 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
   if (cells > (std::size_t{1} << 40))
     throw usage_error("histogram '" + name_ + "' has too many cells (" + std::to_string(cells) + ")");
   cells_ = cells;
+  bins1_ = static_cast<double>(bins_[1]);
+  for (std::size_t t = 0; t < 3; ++t) tallies_[t] = static_cast<double>(cells + t);
   counts_.assign(cells + 3, 0);
 }
 

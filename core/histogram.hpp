@@ -59,6 +59,8 @@ class Histogram {
   std::int64_t bins_[2] = {1, 1};
   std::size_t cells_ = 1;
   std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+  // As the slots' doubles: the second axis' bins, and the tallies' slots cells, cells + 1, + 2.
+  double bins1_ = 1, tallies_[3] = {1, 2, 3};
 
   template <int rank, class V>
   V slot(const V* x, ops::mask_t<V> alive) const {
@@ -69,16 +71,12 @@ class Histogram {
       below = below | (x[1] < V(lo_[1]));
       inside = inside & (x[1] < V(hi_[1]));
       const V f = ops::floor((x[1] - V(lo_[1])) * V(scale_[1]));
-      cell = cell * V(static_cast<double>(bins_[1])) + ops::min(f, V(last_[1]));
+      cell = cell * V(bins1_) + ops::min(f, V(last_[1]));
     }
-    const V tally = ops::select(below, V(tally_underflow()), V(tally_overflow()));
+    const V tally = ops::select(below, V(tallies_[0]), V(tallies_[1]));
     return ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
-                       V(tally_discard()));
+                       V(tallies_[2]));
   }
-
-  double tally_underflow() const { return static_cast<double>(cells_); }
-  double tally_overflow() const { return static_cast<double>(cells_ + 1); }
-  double tally_discard() const { return static_cast<double>(cells_ + 2); }
 };
 
 }  // namespace qmaps

@@ -182,10 +182,14 @@ inline T min(T a, T b) { return b < a ? b : a; }
 // for all lanes instead of a conversion per lane.
 template <class V>
 inline std::array<std::uint64_t, lanes<V>> integer_lanes(V v) {
-  const auto biased = lanes_of(v + V(0x1p52));
+  constexpr std::uint64_t low52 = (std::uint64_t{1} << 52) - 1;
   std::array<std::uint64_t, lanes<V>> out;
-  for (std::size_t l = 0; l < out.size(); ++l)
-    out[l] = std::bit_cast<std::uint64_t>(biased[l]) & ((std::uint64_t{1} << 52) - 1);
+  if constexpr (std::floating_point<V>) {
+    out[0] = std::bit_cast<std::uint64_t>(static_cast<double>(v) + 0x1p52) & low52;
+  } else {  // the mask applied to the whole register
+    const auto bits = lanes_of((v + V(0x1p52)) & V(std::bit_cast<double>(low52)));
+    for (std::size_t l = 0; l < out.size(); ++l) out[l] = std::bit_cast<std::uint64_t>(bits[l]);
+  }
   return out;
 }
 template <class V>
