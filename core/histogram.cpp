@@ -34,6 +34,7 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
   bins1_ = static_cast<double>(bins_[1]);
   for (std::size_t t = 0; t < 3; ++t) tallies_[t] = static_cast<double>(cells + t);
   counts_.assign(cells + 3, 0);
+  pending_.assign(cells + 3, 0);
 }
 
 std::int64_t Histogram::samples() const {
@@ -41,10 +42,18 @@ std::int64_t Histogram::samples() const {
                          std::int64_t{0});
 }
 
-void Histogram::add(const double* x) { add_lanes<double>(x, true); }
+void Histogram::add(const double* x) {
+  ++counts_[ops::integer_lanes(rank_ == 2 ? slot<2>(x, true) : slot<1>(x, true))[0]];
+}
 
-void Histogram::merge(const Histogram& other) {
-  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+void Histogram::flush() {
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += pending_[i];
+  std::fill(pending_.begin(), pending_.end(), std::uint16_t{0});
+  pending_samples_ = 0;
+}
+
+void Histogram::merge(const Histogram& other) {  // other's pending tallies too
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i] + other.pending_[i];
 }
 
 Histogram Histogram::empty_copy() const { return Histogram(name_, axes_); }

@@ -26,17 +26,24 @@ class Histogram {
   Histogram() = default;
   Histogram(std::string name, std::vector<Axis> axes);
 
-  // One sample: a value per axis.
-  void add(const double* x);  // add_lanes<double>(x, true)
+  // One sample: a value per axis, counted at once.
+  void add(const double* x);
 
   // One sample per alive lane of V: the values of axis k in x[k]. Each lane's slot (its cell, or
   // the underflow, overflow or discard tally past the cells) is computed in V with the same
   // arithmetic for double, so every path bins alike; then one increment per lane, no branches.
+  // These increments go to 16-bit pending tallies (a 128 × 128 histogram's stay in L1), added to
+  // the counts by flush() before any of them could overflow, and by merge() and
+  // Observers::merge/finish: counts(), underflow(), overflow() and samples() include the pending
+  // tallies only once flushed.
   template <class V>
   void add_lanes(const V* x, ops::mask_t<V> alive) {
     const auto slots = ops::integer_lanes(rank_ == 2 ? slot<2>(x, alive) : slot<1>(x, alive));
-    for (const std::uint64_t s : slots) ++counts_[s];
+    if (pending_samples_ > pending_limit - slots.size()) flush();
+    pending_samples_ += slots.size();
+    for (const std::uint64_t s : slots) ++pending_[s];
   }
+  void flush();
 
   void merge(const Histogram& other);
   // The same histogram with every count 0 (a thread's partial).
@@ -59,6 +66,10 @@ class Histogram {
   std::int64_t bins_[2] = {1, 1};
   std::size_t cells_ = 1;
   std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+  // add_lanes' increments since the last flush, at most pending_limit in all (so in every slot)
+  static constexpr std::size_t pending_limit = 0xFFFF;
+  std::vector<std::uint16_t> pending_;
+  std::size_t pending_samples_ = 0;
   // As the slots' doubles: the second axis' bins, and the tallies' slots cells, cells + 1, + 2.
   double bins1_ = 1, tallies_[3] = {1, 2, 3};
 

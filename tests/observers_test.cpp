@@ -124,6 +124,23 @@ TEST(Observers, DensitiesAndDriftWithoutSectionsAreBitIdenticalAtStrideOneAndSev
     }
 }
 
+TEST(Observers, PendingTalliesReachTheCountsExactlyPastSixteenBits) {
+  Histogram h("h", {{"x", 0, 1, 2}});
+  const double inside = 0.75, below = -1;
+  for (int i = 0; i < 200000; ++i) h.add_lanes<double>(&inside, true);
+  h.add_lanes<double>(&below, true);
+  h.add_lanes<double>(&below, false);  // discarded
+  Histogram merged = h.empty_copy();
+  merged.merge(h);  // takes the pending tallies too
+  EXPECT_EQ(merged.counts()[1], 200000);
+  EXPECT_EQ(merged.underflow(), 1);
+  EXPECT_EQ(merged.samples(), 200001);  // not the discarded lane
+  h.flush();
+  EXPECT_TRUE(std::ranges::equal(h.counts(), merged.counts()));
+  EXPECT_EQ(h.underflow(), 1);
+  EXPECT_EQ(h.counts()[0], 0);
+}
+
 TEST(Observers, HistogramTotalIsOrbitsTimesSamplesMinusSamplesLostToEscapes) {
   const auto model = testing::suris(0.7, 0.3, -0.4, 0.1);
   const auto points = testing::box_points(2000, 1.2, 1.0);
