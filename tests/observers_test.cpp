@@ -126,10 +126,10 @@ TEST(Observers, DensitiesAndDriftWithoutSectionsAreBitIdenticalAtStrideOneAndSev
 
 TEST(Observers, PendingTalliesReachTheCountsExactlyPastSixteenBits) {
   Histogram h("h", {{"x", 0, 1, 2}});
-  const double inside = 0.75, below = -1;
-  for (int i = 0; i < 200000; ++i) h.add_lanes<double>(&inside, true);
-  h.add_lanes<double>(&below, true);
-  h.add_lanes<double>(&below, false);  // discarded
+  const double inside[2] = {0.75, 0}, below[2] = {-1, 0};  // one axis; add_lanes reads up to two
+  for (int i = 0; i < 200000; ++i) h.add_lanes<double>(inside, true);
+  h.add_lanes<double>(below, true);
+  h.add_lanes<double>(below, false);  // discarded
   Histogram merged = h.empty_copy();
   merged.merge(h);  // takes the pending tallies too
   EXPECT_EQ(merged.counts()[1], 200000);
