@@ -95,21 +95,68 @@ template <class Map, class Arch, int K>
   InvariantTrack<Map, V> track[K];
   for (int k = 0; k < K; ++k) track[k].load(e, first + k * W);
   const V bound2(plan.escape_bound2());
+  // Decided once for the block: what is sampled, and which coordinates the observers read.
   const bool sections = observers && !observers->sections.empty();
+  const bool densities = observers && !observers->densities.empty();
+  const bool density_momentum = densities && observers->densities_need_momentum();
+  const bool section_momentum = sections && observers->sections_need_momentum();
   std::array<V, 5> before[K];
-  if (observers) {
-    for (int k = 0; k < K; ++k) {
-      if (plan.first == 0) sample_densities<Map>(c, s[k], alive[k], *observers);
-      if (sections)
-        before[k] = node_values<Map>(c, s[k], observers->sections_need_momentum());
-    }
+  for (int k = 0; k < K; ++k) {
+    if (densities && plan.first == 0)
+      sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
+    if (sections) before[k] = node_values<Map>(c, s[k], section_momentum);
   }
-  const bool sampling = plan.track_invariants || observers;
+  const bool sampling = plan.track_invariants || densities;
+  // The next multiple of the stride (plan.samples_at without a division per chunk).
+  long long next_multiple = (plan.first / plan.stride + 1) * plan.stride;
+
+  // One step of chain k to node j, checked: the lanes that escape or fault there are recorded and
+  // frozen, as advance_reference stops each orbit.
+  // Steps in place, the previous node copied value by value (a copy of the whole State compiles to
+  // a memory-to-memory move).
+  const auto checked_step = [&](int k, long long j) {
+    V previous[std::tuple_size_v<State>];
+    for (std::size_t i = 0; i < std::size(previous); ++i) previous[i] = s[k][i];
+    const V fault = step_reporting_faults<Map>(c, s[k]);
+    const Mask ok = (Map::escape_measure(s[k]) <= bound2) & (fault == V(0.0));
+    const Mask fresh = alive[k] & ops::negate(ok);
+    if (ops::any(fresh)) [[unlikely]] {
+      State before_step;
+      for (std::size_t i = 0; i < std::size(previous); ++i) before_step[i] = previous[i];
+      L::record(e, first + k * W, j, fresh, s[k], fault);
+      frozen[k] = L::select(fresh, before_step, frozen[k]);
+      alive[k] = alive[k] & ok;
+      s[k] = L::select(alive[k], s[k], parked);
+    }  // else the idle lanes stay at the origin
+  };
+  // What the observers see of chain k at node n.
+  const auto observe = [&](int k, long long n, bool sample) {
+    if (sections)
+      check_sections<Map>(c, s[k], alive[k], *observers, section_momentum, first + k * W, n,
+                          before[k]);
+    if (sample) {
+      if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
+      if (densities) sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
+    }
+  };
 
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
-    if (sampling) next = std::min(next, (n / plan.stride + 1) * plan.stride);
+    if (sampling) next = std::min(next, next_multiple);
     if (sections) next = n + 1;  // sections look at every pair of consecutive iterates
+    const bool at_multiple = next == next_multiple;
+    if (at_multiple) next_multiple += plan.stride;
+    const bool sample = sampling && (at_multiple || next == plan.total);
+
+    if (next == n + 1) {  // a single step is checked as it goes, and observed while in registers
+#pragma GCC unroll 8
+      for (int k = 0; k < K; ++k) {
+        checked_step(k, next);
+        observe(k, next, sample);
+      }
+      n = next;
+      continue;
+    }
 
     // The chunk steps a copy of the chains whose address never escapes, so that the compiler
     // keeps it in registers (s itself is handed to the observers and lives in memory).
@@ -134,33 +181,13 @@ template <class Map, class Arch, int K>
       const Mask bad = ops::negate(acc[k] <= bound2) | (faults[k] != V(0.0));
       suspect = suspect || ops::any(bad & alive[k]);
     }
-
     if (suspect) {  // replay the chunk exactly, step by step
       for (int k = 0; k < K; ++k) s[k] = start[k];
       for (long long j = n + 1; j <= next; ++j)
-        for (int k = 0; k < K; ++k) {
-          State t = s[k];
-          const V fault = step_reporting_faults<Map>(c, t);
-          const Mask ok = (Map::escape_measure(t) <= bound2) & (fault == V(0.0));
-          const Mask fresh = alive[k] & ops::negate(ok);
-          if (ops::any(fresh)) {
-            L::record(e, first + k * W, j, fresh, t, fault);
-            frozen[k] = L::select(fresh, s[k], frozen[k]);
-          }
-          alive[k] = alive[k] & ok;
-          s[k] = L::select(alive[k], t, parked);
-        }
+        for (int k = 0; k < K; ++k) checked_step(k, j);
     }
-
     n = next;
-    if (sections)
-      for (int k = 0; k < K; ++k)
-        check_sections<Map>(c, s[k], alive[k], *observers, first + k * W, n, before[k]);
-    if (sampling && plan.samples_at(n))
-      for (int k = 0; k < K; ++k) {
-        if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
-        if (observers) sample_densities<Map>(c, s[k], alive[k], *observers);
-      }
+    for (int k = 0; k < K; ++k) observe(k, n, sample);
   }
   for (int k = 0; k < K; ++k) {
     L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));

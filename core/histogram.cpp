@@ -31,7 +31,10 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
   if (cells > (std::size_t{1} << 40))
     throw usage_error("histogram '" + name_ + "' has too many cells (" + std::to_string(cells) + ")");
   cells_ = cells;
+  bins1_ = static_cast<double>(bins_[1]);
+  for (std::size_t t = 0; t < 3; ++t) tallies_[t] = static_cast<double>(cells + t);
   counts_.assign(cells + 3, 0);
+  pending_.assign(cells + 3, 0);
 }
 
 std::int64_t Histogram::samples() const {
@@ -39,8 +42,18 @@ std::int64_t Histogram::samples() const {
                          std::int64_t{0});
 }
 
-void Histogram::merge(const Histogram& other) {
-  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+void Histogram::add(const double* x) {
+  ++counts_[ops::integer_lanes(rank_ == 2 ? slot<2>(x, true) : slot<1>(x, true))[0]];
+}
+
+void Histogram::flush() {
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += pending_[i];
+  std::fill(pending_.begin(), pending_.end(), std::uint16_t{0});
+  pending_samples_ = 0;
+}
+
+void Histogram::merge(const Histogram& other) {  // other's pending tallies too
+  for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i] + other.pending_[i];
 }
 
 void Histogram::restore(std::span<const std::int64_t> cells, std::int64_t underflow,

@@ -26,28 +26,24 @@ class Histogram {
   Histogram() = default;
   Histogram(std::string name, std::vector<Axis> axes);
 
-  // One sample: a value per axis.
-  void add(const double* x) { add_lanes<double>(x, true); }
+  // One sample: a value per axis, counted at once.
+  void add(const double* x);
 
   // One sample per alive lane of V: the values of axis k in x[k]. Each lane's slot (its cell, or
   // the underflow, overflow or discard tally past the cells) is computed in V with the same
   // arithmetic for double, so every path bins alike; then one increment per lane, no branches.
+  // These increments go to 16-bit pending tallies (a 128 × 128 histogram's stay in L1), added to
+  // the counts by flush() before any of them could overflow, and by merge() and
+  // Observers::merge/finish: counts(), underflow(), overflow() and samples() include the pending
+  // tallies only once flushed.
   template <class V>
   void add_lanes(const V* x, ops::mask_t<V> alive) {
-    // no lane, every lane (comparing masks themselves is unsafe: sse2 compares their NaN bits)
-    ops::mask_t<V> below = V(0.0) != V(0.0), inside = V(0.0) == V(0.0);
-    V cell(0.0);  // row-major: ((i0) · bins1 + i1), exact in doubles
-    for (int k = 0; k < rank_; ++k) {
-      below = below | (x[k] < V(lo_[k]));
-      inside = inside & (x[k] < V(hi_[k]));
-      const V f = ops::floor((x[k] - V(lo_[k])) * V(scale_[k]));  // rounding may give bins
-      cell = cell * V(static_cast<double>(bins_[k])) + ops::min(f, V(last_[k]));
-    }
-    const V tally = ops::select(below, V(tally_underflow()), V(tally_overflow()));
-    const V slot = ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
-                               V(tally_discard()));
-    for (const double s : ops::lanes_of(slot)) ++counts_[static_cast<std::size_t>(s)];
+    const auto slots = ops::integer_lanes(rank_ == 2 ? slot<2>(x, alive) : slot<1>(x, alive));
+    if (pending_samples_ > pending_limit - slots.size()) flush();
+    pending_samples_ += slots.size();
+    for (const std::uint64_t s : slots) ++pending_[s];
   }
+  void flush();
 
   void merge(const Histogram& other);
   // Sets every count, as counts(), underflow() and overflow() gave them (a checkpoint's).
@@ -72,10 +68,28 @@ class Histogram {
   std::int64_t bins_[2] = {1, 1};
   std::size_t cells_ = 1;
   std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+  // add_lanes' increments since the last flush, at most pending_limit in all (so in every slot)
+  static constexpr std::size_t pending_limit = 0xFFFF;
+  std::vector<std::uint16_t> pending_;
+  std::size_t pending_samples_ = 0;
+  // As the slots' doubles: the second axis' bins, and the tallies' slots cells, cells + 1, + 2.
+  double bins1_ = 1, tallies_[3] = {1, 2, 3};
 
-  double tally_underflow() const { return static_cast<double>(cells_); }
-  double tally_overflow() const { return static_cast<double>(cells_ + 1); }
-  double tally_discard() const { return static_cast<double>(cells_ + 2); }
+  template <int rank, class V>
+  V slot(const V* x, ops::mask_t<V> alive) const {
+    ops::mask_t<V> below = x[0] < V(lo_[0]), inside = x[0] < V(hi_[0]);
+    // row-major: i0 · bins1 + i1, exact in doubles; rounding may give f = bins, hence the min
+    V cell = ops::min(ops::floor((x[0] - V(lo_[0])) * V(scale_[0])), V(last_[0]));
+    if constexpr (rank == 2) {
+      below = below | (x[1] < V(lo_[1]));
+      inside = inside & (x[1] < V(hi_[1]));
+      const V f = ops::floor((x[1] - V(lo_[1])) * V(scale_[1]));
+      cell = cell * V(bins1_) + ops::min(f, V(last_[1]));
+    }
+    const V tally = ops::select(below, V(tallies_[0]), V(tallies_[1]));
+    return ops::select(alive, ops::select(inside & ops::negate(below), cell, tally),
+                       V(tallies_[2]));
+  }
 };
 
 }  // namespace qmaps

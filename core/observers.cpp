@@ -73,6 +73,8 @@ void Observers::merge(const Observers& partial) {
 }
 
 void Observers::finish() {
+  for (auto& d : densities) d.histogram.flush();
+  for (auto& s : sections) s.density.flush();
   for (auto& s : sections)
     std::sort(s.points.begin(), s.points.end(), [](const SectionPoint& a, const SectionPoint& b) {
       return a.orbit != b.orbit ? a.orbit < b.orbit : a.step < b.step;

@@ -60,7 +60,7 @@ struct Observers {
   bool sections_need_momentum() const;
   Observers empty_copy() const;
   void merge(const Observers& partial);
-  void finish();  // sorts section points by (orbit, step)
+  void finish();  // flushes the histograms' pending tallies, sorts section points by (orbit, step)
 };
 
 }  // namespace qmaps

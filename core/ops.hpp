@@ -10,12 +10,16 @@
 //                   xsimd 8's AVX-512 negation is 0 − a, which maps +0 to +0.
 //   sqrt, abs, floor  correctly rounded / exact on every path
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
+//                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
+//   integer_lanes     the lanes of a value holding exact integers in [0, 2^52), as integers
 //
 // This is the only file that touches xsimd or intrinsics.
 #include <array>
+#include <bit>
 #include <cmath>
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 #include <type_traits>
 
 #include <immintrin.h>
@@ -148,11 +152,46 @@ inline std::array<bool, batch<A>::size> lanes_of(xsimd::batch_bool<double, A> m)
   return out;
 }
 
+// maxpd(x, y) = x > y ? x : y and minpd(x, y) = x < y ? x : y (the second operand on equality
+// or NaN), so max(a, b) = maxpd(b, a) and min(a, b) = minpd(b, a), as the scalar rule below.
+template <class A>
+inline batch<A> max(batch<A> a, batch<A> b) {
+  if constexpr (batch<A>::size == 8)
+    return _mm512_maskz_max_pd(0xFF, b, a);  // the unmasked form reads an undefined register
+  else if constexpr (batch<A>::size == 4)
+    return _mm256_max_pd(b, a);
+  else
+    return _mm_max_pd(b, a);
+}
+template <class A>
+inline batch<A> min(batch<A> a, batch<A> b) {
+  if constexpr (batch<A>::size == 8)
+    return _mm512_maskz_min_pd(0xFF, b, a);
+  else if constexpr (batch<A>::size == 4)
+    return _mm256_min_pd(b, a);
+  else
+    return _mm_min_pd(b, a);
+}
+
 // ---- written once for both --------------------------------------------------------------------
+template <std::floating_point T>
+inline T max(T a, T b) { return b > a ? b : a; }
+template <std::floating_point T>
+inline T min(T a, T b) { return b < a ? b : a; }
+// v + 2^52 is exact for an integer v in [0, 2^52) and holds v in its low 52 bits: one addition
+// for all lanes instead of a conversion per lane.
 template <class V>
-inline V max(V a, V b) { return select(b > a, b, a); }
-template <class V>
-inline V min(V a, V b) { return select(b < a, b, a); }
+inline std::array<std::uint64_t, lanes<V>> integer_lanes(V v) {
+  constexpr std::uint64_t low52 = (std::uint64_t{1} << 52) - 1;
+  std::array<std::uint64_t, lanes<V>> out;
+  if constexpr (std::floating_point<V>) {
+    out[0] = std::bit_cast<std::uint64_t>(static_cast<double>(v) + 0x1p52) & low52;
+  } else {  // the mask applied to the whole register
+    const auto bits = lanes_of((v + V(0x1p52)) & V(std::bit_cast<double>(low52)));
+    for (std::size_t l = 0; l < out.size(); ++l) out[l] = std::bit_cast<std::uint64_t>(bits[l]);
+  }
+  return out;
+}
 template <class V>
 inline V square(V a) { return a * a; }
 // −0 − a: exact negation (+0 → −0, −0 → +0), the same arithmetic on every path.

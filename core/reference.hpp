@@ -14,6 +14,8 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
                        Observers* observers) {
   using State = typename Map::template State<double>;
   const double bound2 = plan.escape_bound2();
+  const bool momentum = observers && observers->densities_need_momentum();
+  const bool section_momentum = observers && observers->sections_need_momentum();
   for (std::size_t i = 0; i < e.orbits; ++i) {
     if (e.escape_step[i] >= 0) continue;
     State s;
@@ -22,9 +24,9 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
     track.load(e, i);
     std::array<double, 5> before{};
     if (observers) {
-      if (plan.first == 0) sample_densities<Map>(c, s, true, *observers);
+      if (plan.first == 0) sample_densities<Map>(c, s, true, *observers, momentum);
       if (!observers->sections.empty())
-        before = node_values<Map>(c, s, observers->sections_need_momentum());
+        before = node_values<Map>(c, s, section_momentum);
     }
     for (long long n = plan.first + 1; n <= plan.last; ++n) {
       State next = s;
@@ -35,10 +37,10 @@ void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan
         break;
       }
       s = next;
-      if (observers) check_sections<Map>(c, s, true, *observers, i, n, before);
+      if (observers) check_sections<Map>(c, s, true, *observers, section_momentum, i, n, before);
       if (plan.samples_at(n)) {
         if (plan.track_invariants) track.sample(c, s, true);
-        if (observers) sample_densities<Map>(c, s, true, *observers);
+        if (observers) sample_densities<Map>(c, s, true, *observers, momentum);
       }
     }
     for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];

@@ -83,12 +83,13 @@ std::array<std::array<double, ops::lanes<V>>, 5> lanes_of(const std::array<V, 5>
   return out;
 }
 
-// Adds the coordinates of the alive lanes to every density histogram.
+// Adds the coordinates of the alive lanes to every density histogram; `momentum`:
+// o.densities_need_momentum(), decided once per run rather than per sample.
 template <class Map, class V>
 void sample_densities(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
-                      ops::mask_t<V> alive, Observers& o) {
+                      ops::mask_t<V> alive, Observers& o, bool momentum) {
   if (o.densities.empty()) return;
-  const auto x = node_values<Map>(c, s, o.densities_need_momentum());
+  const auto x = node_values<Map>(c, s, momentum);
   for (auto& d : o.densities) {
     V v[2];
     for (std::size_t a = 0; a < d.coordinates.size(); ++a)
@@ -107,12 +108,13 @@ ops::mask_t<V> crosses(const Section& section, V a, V b) {
 
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
 // (the state s) is recorded; `before` becomes node n + 1. Lanes are unpacked only on a crossing.
+// `momentum`: o.sections_need_momentum().
 template <class Map, class V>
 void check_sections(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
-                    ops::mask_t<V> alive, Observers& o, std::size_t first_orbit, long long step,
-                    std::array<V, 5>& before) {
+                    ops::mask_t<V> alive, Observers& o, bool momentum, std::size_t first_orbit,
+                    long long step, std::array<V, 5>& before) {
   if (o.sections.empty()) return;
-  const auto after = node_values<Map>(c, s, o.sections_need_momentum());
+  const auto after = node_values<Map>(c, s, momentum);
   for (auto& section : o.sections) {
     const auto p = static_cast<std::size_t>(section.plane);
     const auto crossing = crosses(section, before[p], after[p]) & alive;

@@ -50,7 +50,7 @@ struct Suris : TwoStep<Suris> {
   struct Coeffs {
     double A, B, alpha, h;
     double two_a, two_b, g;           // 2(1 − Ah²), 2(1 − Bh²), 2αh²
-    double inv_h, two_Ah2, two_Bh2;   // 1/h, 2Ah², 2Bh²
+    double half_inv_h2, two_Ah2, two_Bh2;  // 1/(2h²), 2Ah², 2Bh²
     double HA, HB, Halpha;            // A, B, α as the rounded map realises them (for H)
     double k1, k2, kx1, kx2;          // g a²/(a²−b²), g b²/(b²−a²), 2g a/(a+b), 2g b/(a+b)
     bool has_I12;                     // A ≠ B
@@ -65,7 +65,7 @@ struct Suris : TwoStep<Suris> {
     const double g = 2 * alpha * h2;
     // The invariants' coefficients come from the map's rounded ones (2 − 2a is exact), so the
     // invariants are those of the map as it is computed, not of a map one rounding away.
-    Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 1 / h, 2 - 2 * a, 2 - 2 * b,
+    Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 0.5 / h2, 2 - 2 * a, 2 - 2 * b,
              (1 - a) / h2, (1 - b) / h2, g / (2 * h2), 0, 0, 0, 0, A != B};
     if (c.has_I12) {  // a² − b² = (a − b)(a + b), with a − b exact
       c.k1 = g * a * a / ((a - b) * (a + b));
@@ -104,20 +104,25 @@ struct Suris : TwoStep<Suris> {
 
   template <class V>
   static void invariants(const Coeffs& c, const State<V>& s, V* out) {
+    // Shared by the three: d = v − u (= hp), w = (u1v1, u2v2), X = v1u2, Y = u1v2. Sums run in
+    // the order of the formulas above, each product-and-add fused.
     const V u1 = s[0], u2 = s[1], v1 = s[2], v2 = s[3];
-    const V p1 = (v1 - u1) * V(c.inv_h), p2 = (v2 - u2) * V(c.inv_h);
+    const V d1 = v1 - u1, d2 = v2 - u2, e1 = d1 * d1, e2 = d2 * d2;
     const V w1 = u1 * v1, w2 = u2 * v2;
-    out[0] = V(0.5) * norm2(p1, p2) + V(c.HA) * w1 + V(c.HB) * w2 +
-             V(c.Halpha) * norm2(u1, u2) * norm2(v1, v2);
+    const V kinetic = V(c.half_inv_h2) * (e1 + e2);  // ½|p|²
+    out[0] = ops::fma(V(c.Halpha) * norm2(u1, u2), norm2(v1, v2),
+                      ops::fma(V(c.HB), w2, ops::fma(V(c.HA), w1, kinetic)));
     const V X = v1 * u2, Y = u1 * v2;
     if (!c.has_I12) {
       out[1] = Y - X;
       return;
     }
-    const V d1 = v1 - u1, d2 = v2 - u2, XmY = X - Y, XY = X * Y;
-    const V cross = ops::square(XmY);
-    out[1] = d1 * d1 + V(c.two_Ah2) * w1 + V(c.g) * (w1 * w1) + V(c.k1) * cross + V(c.kx1) * XY;
-    out[2] = d2 * d2 + V(c.two_Bh2) * w2 + V(c.g) * (w2 * w2) + V(c.k2) * cross + V(c.kx2) * XY;
+    const V XmY = X - Y, cross = XmY * XmY, XY = X * Y;
+    // (v−u)² + 2Ah² w + g w² = (v−u)² + w (2Ah² + g w)
+    const V own1 = ops::fma(w1, ops::fma(V(c.g), w1, V(c.two_Ah2)), e1);
+    const V own2 = ops::fma(w2, ops::fma(V(c.g), w2, V(c.two_Bh2)), e2);
+    out[1] = ops::fma(V(c.kx1), XY, ops::fma(V(c.k1), cross, own1));
+    out[2] = ops::fma(V(c.kx2), XY, ops::fma(V(c.k2), cross, own2));
   }
 
   // The continuous acceleration F(q) = −∇V.

@@ -89,6 +89,58 @@ TEST(Observers, OutputIsBitIdenticalOnEveryIsaThreadCountAndBlockSize) {
   }
 }
 
+// Without sections the runner steps in chunks up to the next sample: one step at stride 1,
+// several (replayed on an escape) at stride 7; both must give the reference's bytes.
+TEST(Observers, DensitiesAndDriftWithoutSectionsAreBitIdenticalAtStrideOneAndSeven) {
+  const auto same_column = [](const auto& x, const auto& y, std::size_t n) {
+    return std::memcmp(x.data(), y.data(), n * sizeof(x[0])) == 0;
+  };
+  for (double alpha : {0.9, -0.4})
+    for (long long stride : {1, 7}) {
+      const auto model = testing::suris(0.7, 0.3, alpha, 0.1);
+      const auto points = testing::box_points(1001, alpha > 0 ? 0.5 : 1.2, alpha > 0 ? 0.5 : 1.0);
+      const RunPlan plan = plan_of(300, stride, alpha > 0 ? 1e8 : 10);
+      Observers ref = observers(points.size(), 3);
+      ref.sections.clear();
+      Ensemble e0 = model->start(points, Start::taylor, plan.escape_bound);
+      model->advance(e0, plan, Execution{}, &ref);
+      for (Isa isa : runnable_isas())
+        for (int chains : {1, 8}) {
+          Observers o = observers(points.size(), 3);
+          o.sections.clear();
+          Ensemble e = model->start(points, Start::taylor, plan.escape_bound);
+          model->advance(e, plan, Execution{isa, 2, chains}, &o);
+          const std::string where = std::string(isa_name(isa)) + " " + std::to_string(chains) +
+                                    " chains, stride " + std::to_string(stride) + ", alpha " +
+                                    std::to_string(alpha);
+          EXPECT_TRUE(same_bytes(ref, o)) << where;
+          EXPECT_TRUE(same_column(e.escape_step, e0.escape_step, e.orbits)) << where;
+          for (std::size_t k = 0; k < e.state.size(); ++k)
+            EXPECT_TRUE(same_column(e.state[k], e0.state[k], e.orbits)) << where;
+          for (std::size_t k = 0; k < e.invariant_max_drift.size(); ++k)
+            EXPECT_TRUE(same_column(e.invariant_max_drift[k], e0.invariant_max_drift[k], e.orbits))
+                << where;
+        }
+    }
+}
+
+TEST(Observers, PendingTalliesReachTheCountsExactlyPastSixteenBits) {
+  Histogram h("h", {{"x", 0, 1, 2}});
+  const double inside[2] = {0.75, 0}, below[2] = {-1, 0};  // one axis; add_lanes reads up to two
+  for (int i = 0; i < 200000; ++i) h.add_lanes<double>(inside, true);
+  h.add_lanes<double>(below, true);
+  h.add_lanes<double>(below, false);  // discarded
+  Histogram merged = h.empty_copy();
+  merged.merge(h);  // takes the pending tallies too
+  EXPECT_EQ(merged.counts()[1], 200000);
+  EXPECT_EQ(merged.underflow(), 1);
+  EXPECT_EQ(merged.samples(), 200001);  // not the discarded lane
+  h.flush();
+  EXPECT_TRUE(std::ranges::equal(h.counts(), merged.counts()));
+  EXPECT_EQ(h.underflow(), 1);
+  EXPECT_EQ(h.counts()[0], 0);
+}
+
 TEST(Observers, HistogramTotalIsOrbitsTimesSamplesMinusSamplesLostToEscapes) {
   const auto model = testing::suris(0.7, 0.3, -0.4, 0.1);
   const auto points = testing::box_points(2000, 1.2, 1.0);
