@@ -50,10 +50,10 @@ class Model {
     e.fill_padding();
     return e;
   }
-  // The ensemble whose orbit i is in the state (state[0][i], state[1][i], …), components in the
+  // Starts every orbit i of `e` in the state (state[0][i], state[1][i], …), components in the
   // order of state_names(), e.g. the /final/state of an earlier run; the same escape test.
-  virtual Ensemble start_from_state(std::span<const std::vector<double>> state,
-                                    double escape_bound) const = 0;
+  virtual void start_from_state(Ensemble& e, std::span<const std::vector<double>> state,
+                                double escape_bound) const = 0;
   // The continuous system the map discretizes: its (A, B, α, β, δ).
   virtual Potential continuous() const = 0;
   // Advances from plan.first to plan.last; the samples of the orbits go into `observers`.

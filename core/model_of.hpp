@@ -34,20 +34,17 @@ class ModelOf final : public Model {
                  [&](std::size_t j) { return Map::from_phase_space(c_, initial[j], rule); });
   }
 
-  Ensemble start_from_state(std::span<const std::vector<double>> state,
-                            double escape_bound) const override {
+  void start_from_state(Ensemble& e, std::span<const std::vector<double>> state,
+                        double escape_bound) const override {
     if (state.size() != Map::state_names.size())
       throw usage_error(std::string(Map::name) + ": a state has " +
                         std::to_string(Map::state_names.size()) + " components, not " +
                         std::to_string(state.size()));
-    Ensemble e(state.front().size(), Map::state_names.size(), invariant_names_.size());
-    start_orbits(e, 0, e.orbits, escape_bound, [&](std::size_t i) {
+    start_orbits(e, 0, state.front().size(), escape_bound, [&](std::size_t i) {
       typename Map::template State<double> s;
       for (std::size_t k = 0; k < s.size(); ++k) s[k] = state[k][i];
       return s;
     });
-    e.fill_padding();
-    return e;
   }
 
   Potential continuous() const override { return Map::continuous(c_); }

@@ -92,16 +92,13 @@ Drawn FromFile::draw(std::size_t orbit) const {
   return {model_.phase_of(state)};
 }
 
-std::optional<Ensemble> FromFile::continued(double escape_bound) const {
-  if (!final_) return std::nullopt;
-  Ensemble e = model_.start_from_state(columns_, escape_bound);
+void FromFile::continue_into(Ensemble& e, double escape_bound) const {
+  model_.start_from_state(e, columns_, escape_bound);
   for (std::size_t i = 0; i < orbits_; ++i)
     if (escape_step_[i] >= 0) {
       e.escape_step[i] = 0;
       e.escape_reason[i] = static_cast<std::uint8_t>(escape_reason_[i]);
     }
-  e.fill_padding();
-  return e;
 }
 
 std::string FromFile::description() const {

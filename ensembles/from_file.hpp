@@ -6,7 +6,6 @@
 //     with the earlier reason). Its /initial is the phase point of that state.
 //   group = "initial": the earlier run's starting points /initial, started by this run's rule.
 // The file's map and every parameter must equal this run's; a mismatch names both.
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,10 +21,10 @@ class FromFile final : public EnsembleKind {
   std::size_t orbits() const override { return orbits_; }
   Drawn draw(std::size_t orbit) const override;
   std::string description() const override;
-  // group = "final": the orbits continue the file's states (continued()), not its points.
+  // group = "final": the orbits continue the file's states (continue_into()), not its points.
   bool continues() const { return final_; }
-  // group = "final": the ensemble in the file's states, its escaped orbits escaped.
-  std::optional<Ensemble> continued(double escape_bound) const;
+  // Starts every orbit of `e` in the file's state, the orbits escaped there escaped at step 0.
+  void continue_into(Ensemble& e, double escape_bound) const;
 
  private:
   const Model& model_;

@@ -66,9 +66,8 @@ std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start ru
                                        double escape_bound, const PointsSink& sink,
                                        std::size_t part) const {
   const auto* file = dynamic_cast<const FromFile*>(generator_.get());
-  if (file)
-    if (auto continued = file->continued(escape_bound)) e = std::move(*continued);
   const bool continues = file && file->continues();
+  if (continues) file->continue_into(e, escape_bound);
   std::uint64_t rejected = generator_->rejected_up_front();
   const std::size_t n = orbits();
   std::vector<Phase> points(std::min(n, part));
