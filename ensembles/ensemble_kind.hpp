@@ -30,10 +30,6 @@ class EnsembleKind {
   virtual std::uint64_t rejected_up_front() const { return 0; }
 };
 
-// Phase-space coordinates by index: 0 q1, 1 q2, 2 p1, 3 p2.
-inline constexpr std::array<std::string_view, 4> phase_names = {"q1", "q2", "p1", "p2"};
-inline std::array<double, 4> as_array(const Phase& x) { return {x.q1, x.q2, x.p1, x.p2}; }
-inline Phase as_phase(const std::array<double, 4>& x) { return {x[0], x[1], x[2], x[3]}; }
 
 // The index of coordinate `name` read from [ensemble] `key` (an error naming the key otherwise).
 int phase_index(const Config& config, std::string_view key, const std::string& name);

@@ -10,9 +10,6 @@
 namespace qmaps {
 namespace {
 
-constexpr const char* phase_names[4] = {"q1", "q2", "p1", "p2"};
-constexpr double Phase::*phase_members[4] = {&Phase::q1, &Phase::q2, &Phase::p1, &Phase::p2};
-
 struct Column {
   const h5::Group& group;
   std::string name;
@@ -120,21 +117,21 @@ std::string session_line(long long first, long long last, const Execution& x,
 }
 
 void create_phase(const h5::Group& g, std::size_t n) {
-  for (const char* name : phase_names) g.create_column<double>(name, n);
+  for (const auto name : phase_names) g.create_column<double>(std::string(name), n);
 }
 
 void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points) {
   std::vector<double> column(points.size());
   for (int k = 0; k < 4; ++k) {
     for (std::size_t i = 0; i < points.size(); ++i) column[i] = points[i].*phase_members[k];
-    g.write_part<double>(phase_names[k], first, column);
+    g.write_part<double>(std::string(phase_names[k]), first, column);
   }
 }
 
 void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points) {
   std::vector<double> column(points.size());
   for (int k = 0; k < 4; ++k) {
-    g.read_part<double>(phase_names[k], first, column);
+    g.read_part<double>(std::string(phase_names[k]), first, column);
     for (std::size_t i = 0; i < points.size(); ++i) points[i].*phase_members[k] = column[i];
   }
 }
