@@ -17,7 +17,7 @@ enum class EscapeReason : std::uint8_t {
   non_finite = 1,    // a state component became NaN or infinite
   beyond_bound = 2,  // the configuration left the ball |q| ≤ escape_bound
   no_convergence = 3,   // an implicit step's solver did not converge
-  zero_derivative = 4,  // an implicit step's solver derivative (or divisor) vanished
+  zero_derivative = 4,  // an implicit step's solver derivative vanished
   wrong_branch = 5,     // an implicit step's root is not on the physical branch
 };
 std::string_view escape_reason_name(EscapeReason reason);

@@ -27,12 +27,12 @@ struct RunRecord {
   std::uint64_t seed = 0;
   Start start = Start::taylor;
   bool per_orbit = true;  // [output] per_orbit: false leaves out every dataset of shape (N_o,)
-  std::string config_text, config_resolved, command_line;
-  std::string started, finished;  // ISO 8601, UTC
-  std::string sessions;           // one line per process that advanced the run (session_line)
+  std::string config_text{}, config_resolved{}, command_line{};
+  std::string started{}, finished{};  // ISO 8601, UTC
+  std::string sessions{};         // one line per process that advanced the run (session_line)
   const Observers* observers = nullptr;
   const InvariantImage* image = nullptr;
-  std::string ensemble_description;  // what the initial conditions are, in one line
+  std::string ensemble_description{};  // what the initial conditions are, in one line
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
 };
 

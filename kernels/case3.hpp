@@ -199,20 +199,17 @@ struct Case3 {
       // Störmer–Verlet: 2u − v + c(2λu − 6Au⁵ − 10αu⁹) = −(r + u⁵(6Ac + 10αc u⁴))
       guess = ops::neg(ops::fma(ops::fma(V(c.ten_alphac), u4, V(c.six_Ac)), u5, r));
     }
-    // Halley's correction Δ = P P′ / (P′² − P h) at w, in Estrin's form (short dependency
-    // chains). `degenerate`: the divisor or P′ vanished.
+    // Halley's correction Δ = P P′ / (P′² − P h) at w, and P′ there, in Horner's form. A zero
+    // divisor gives an infinite or NaN Δ, which never settles; a zero P′ gives Δ = 0, and the
+    // iterate stays where P′ = 0.
     struct Correction {
       V delta, slope;
-      ops::mask_t<V> degenerate;
     };
     Correction halley(V w) const {
-      const V w2 = w * w;
-      const V value = ops::fma(ops::fma(c4, w2, ops::fma(c3, w, c2)), w2, ops::fma(c1, w, c0));
-      const V slope = ops::fma(ops::fma(s3, w, s2), w2, ops::fma(s1, w, c1));
-      const V h = ops::fma(h2, w2, ops::fma(s2, w, c2));
-      const V divisor = ops::fms(slope, slope, value * h), none(0.0);
-      return {value * slope / divisor, slope,
-              static_cast<ops::mask_t<V>>((divisor == none) | (slope == none))};
+      const V value = ops::fma(ops::fma(ops::fma(ops::fma(c4, w, c3), w, c2), w, c1), w, c0);
+      const V slope = ops::fma(ops::fma(ops::fma(s3, w, s2), w, s1), w, c1);
+      const V h = ops::fma(ops::fma(h2, w, s2), w, c2);
+      return {value * slope / ops::fms(slope, slope, value * h), slope};
     }
   };
 
@@ -226,39 +223,40 @@ struct Case3 {
   // Halley on both components: two corrections on every lane, then more on the lanes where either
   // |Δw| > 2⁻²⁰(1 + |w|). Convergence is cubic, e_{k+1} ≈ K e_k³ with K = |h²/P′² − P‴/(6P′)| =
   // O(ds²), so the error left after a correction of 2⁻²⁰ is below round-off. Returns the fault
-  // codes.
+  // codes. They are read at the end: a lane whose Δ was infinite or NaN has not settled, and a
+  // lane that met P′ = 0 is still at that iterate.
   template <class V>
   static V solve(const Quartic<V>& p1, const Quartic<V>& p2, V& w1, V& w2) {
     using Mask = ops::mask_t<V>;
     w1 = p1.guess;
     w2 = p2.guess;
-    const V none(0.0);
-    Mask flat = none != none, done = flat;
     V slope1, slope2;
+    Mask done;
     for (int it = 0; it < 2; ++it) {
       const auto d1 = p1.halley(w1), d2 = p2.halley(w2);
-      flat = flat | d1.degenerate | d2.degenerate;
       w1 = w1 - d1.delta;
       w2 = w2 - d2.delta;
       slope1 = d1.slope;
       slope2 = d2.slope;
       done = settled(d1.delta, w1) & settled(d2.delta, w2);
     }
-    Mask active = ops::negate(done | flat);
+    Mask active = ops::negate(done);
     for (int it = 2; it < max_iterations && ops::any(active); ++it) {
       const auto d1 = p1.halley(w1), d2 = p2.halley(w2);
-      flat = flat | (active & (d1.degenerate | d2.degenerate));
       const V n1 = w1 - d1.delta, n2 = w2 - d2.delta;
       w1 = ops::select(active, n1, w1);
       w2 = ops::select(active, n2, w2);
       slope1 = ops::select(active, d1.slope, slope1);
       slope2 = ops::select(active, d2.slope, slope2);
-      active = active & ops::negate((settled(d1.delta, n1) & settled(d2.delta, n2)) | flat);
+      active = active & ops::negate(settled(d1.delta, n1) & settled(d2.delta, n2));
     }
-    const V on_branch = ops::select((slope1 > none) & (slope2 > none), none,
-                                    V(double(EscapeReason::wrong_branch)));
-    const V unfinished = ops::select(active, V(double(EscapeReason::no_convergence)), on_branch);
-    return ops::select(flat, V(double(EscapeReason::zero_derivative)), unfinished);
+    const V none(0.0);
+    const Mask uphill = (slope1 > none) & (slope2 > none);
+    if (ops::all(uphill & ops::negate(active))) return none;
+    const V on_branch = ops::select(uphill, none, V(double(EscapeReason::wrong_branch)));
+    const V flat = ops::select((slope1 == none) | (slope2 == none),
+                               V(double(EscapeReason::zero_derivative)), on_branch);
+    return ops::select(active, V(double(EscapeReason::no_convergence)), flat);
   }
 };
 
