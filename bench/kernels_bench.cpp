@@ -20,7 +20,7 @@ void step_ensemble(benchmark::State& state, const BenchMap& bench, Isa isa) {
   auto& setup = bench_setup(bench.map, orbits, [&] { return make_model(bench.map, bench.params); });
   Ensemble& e = *setup.ensemble;
   for (auto _ : state) {
-    setup.model->advance(e, next_steps(e, steps, false), Execution{isa, threads, 4});
+    setup.model->advance(e, next_steps(e, steps, false), Execution{isa, threads});
     benchmark::DoNotOptimize(e.state[2][0]);
   }
   describe(state, bench.map, isa_name(isa), static_cast<double>(orbits),

@@ -32,7 +32,7 @@ const bool registered = [] {
   auto* sweep = benchmark::RegisterBenchmark("runner/orbits", run, size.sweep_steps)
                     ->ArgNames({"orbits", "threads", "chains"});
   for (int log2 = size.min_log2_orbits; log2 <= size.max_log2_orbits; log2 += 2)
-    for (long threads : {1, 2}) sweep->Args({1L << log2, threads, 4});
+    for (long threads : {1, 2}) sweep->Args({1L << log2, threads, Execution{}.chains});
   auto* chains = benchmark::RegisterBenchmark("runner/chains", run, size.steps)
                      ->ArgNames({"orbits", "threads", "chains"});
   for (long k : {1, 2, 4, 8})

@@ -22,7 +22,7 @@ namespace qmaps {
 struct Execution {
   Isa isa = Isa::scalar;
   int threads = 1;
-  int chains = 4;  // 1, 2, 4 or 8
+  int chains = 8;  // 1, 2, 4 or 8
 };
 
 class Model {

@@ -118,7 +118,7 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_EQ(root.attr_int64("escaped"), 0);
   EXPECT_EQ(root.attr_string("isa"), "scalar");
   EXPECT_EQ(root.attr_int64("threads"), 1);
-  EXPECT_EQ(root.attr_int64("chains"), 4);
+  EXPECT_EQ(root.attr_int64("chains"), 8);
   EXPECT_EQ(root.attr_string("config"), config);
   const Config resolved = Config::parse(root.attr_string("config_resolved"), "config_resolved");
   EXPECT_EQ(resolved.integer("run", "steps"), 50);
