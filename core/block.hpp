@@ -80,6 +80,9 @@ template <class Map, class V, int K>
   typename Map::template State<V> w[K];
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
+  // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of moving
+  // them (Suris, 8 chains, AVX-512: +2–7%).
+#pragma GCC unroll 2
   for (long long j = 0; j < steps; ++j)
     for (int k = 0; k < K; ++k) {
       acc = acc + Map::escape_measure(w[k]);
