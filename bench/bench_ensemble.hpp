@@ -23,6 +23,7 @@ namespace qmaps {
 struct BenchSize {
   std::string_view name;
   long simd_orbits;      // orbits on the SIMD paths
+  long million_orbits;   // a million-orbit ensemble (2^20), as users run: Suris on the best ISA
   long slow_orbits;      // orbits on the scalar path and sse2 (a per-lane exactly rounded FMA)
   long long steps;       // steps per iteration of the explicit maps
   long long slow_steps;  // steps per iteration of case3 (Newton) and flow (15 forces per step)
@@ -32,9 +33,9 @@ struct BenchSize {
 
 inline const BenchSize& bench_size() {
   static const BenchSize sizes[] = {
-      {"full", 1 << 18, 1 << 12, 1000, 100, 10, 24, 64},
-      {"quick", 1 << 16, 1 << 10, 250, 25, 10, 20, 32},
-      {"tiny", 1 << 8, 1 << 8, 4, 2, 8, 10, 4},
+      {"full", 1 << 18, 1 << 20, 1 << 12, 1000, 100, 10, 24, 64},
+      {"quick", 1 << 16, 1 << 20, 1 << 10, 250, 25, 10, 20, 32},
+      {"tiny", 1 << 8, 1 << 10, 1 << 8, 4, 2, 8, 10, 4},
   };
   const char* env = std::getenv("QMAPS_BENCH_SIZE");
   const std::string_view wanted = env && *env ? env : "full";
