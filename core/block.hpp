@@ -200,8 +200,11 @@ template <class Map, class Arch, int K>
 
     State start[K];
     for (int k = 0; k < K; ++k) start[k] = s[k];
-    const bool suspect = K == 8 ? detail::step_chunk_apart<Map, V, K>(c, s, next - n, bound2)
-                                : detail::step_chunk<Map, V, K>(c, s, next - n, bound2);
+    bool suspect;
+    if constexpr (K == 8)
+      suspect = detail::step_chunk_apart<Map, V, K>(c, s, next - n, bound2);
+    else
+      suspect = detail::step_chunk<Map, V, K>(c, s, next - n, bound2);
     if (suspect) {  // replay the chunk step by step
       for (int k = 0; k < K; ++k) s[k] = start[k];
       for (long long j = n + 1; j <= next; ++j)

@@ -96,7 +96,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.x.isa = resolve_isa(options.simd);
   r.x.threads =
       r.x.isa == Isa::scalar ? 1 : options.threads > 0 ? options.threads : omp_get_max_threads();
-  r.x.chains = static_cast<int>(config.integer_or("run", "chains", 8));
+  r.x.chains = static_cast<int>(config.integer_or("run", "chains", Execution{}.chains));
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
