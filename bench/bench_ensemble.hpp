@@ -13,8 +13,8 @@
 
 #include "core/error.hpp"
 #include "core/model.hpp"
-#include "ensembles/box.hpp"
-#include "ensembles/initial_conditions.hpp"
+#include "ensembles/kinds/box.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
 
 namespace qmaps {
 

@@ -13,12 +13,12 @@
 #include <string>
 
 #include "bench_maps.hpp"
-#include "core/h5.hpp"
+#include "core/io/h5.hpp"
 #include "core/isa.hpp"
-#include "ensembles/box.hpp"
-#include "ensembles/initial_conditions.hpp"
-#include "ensembles/catalogue.hpp"
-#include "ensembles/output.hpp"
+#include "ensembles/kinds/box.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
+#include "kernels/catalogue.hpp"
+#include "ensembles/io/output.hpp"
 
 namespace qmaps {
 namespace {

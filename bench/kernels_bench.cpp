@@ -10,7 +10,7 @@
 
 #include "bench_maps.hpp"
 #include "core/isa.hpp"
-#include "ensembles/catalogue.hpp"
+#include "kernels/catalogue.hpp"
 
 namespace qmaps {
 namespace {

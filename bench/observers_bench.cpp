@@ -5,7 +5,7 @@
 
 #include "core/isa.hpp"
 #include "bench_ensemble.hpp"
-#include "ensembles/catalogue.hpp"
+#include "kernels/catalogue.hpp"
 
 namespace qmaps {
 namespace {

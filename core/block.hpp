@@ -12,11 +12,11 @@
 #include <array>
 #include <cstddef>
 
-#include "core/advance.hpp"
+#include "core/dispatch.hpp"
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
 #include "core/run_plan.hpp"
-#include "core/tracking.hpp"
+#include "core/observers/tracking.hpp"
 
 namespace qmaps {
 
@@ -86,7 +86,7 @@ template <class Map, class V, int K>
   for (long long j = 0; j < steps; ++j)
     for (int k = 0; k < K; ++k) {
       acc = acc + Map::escape_measure(w[k]);
-      if constexpr (reports_faults<Map>)
+      if constexpr (Map::reports_faults)
         faults = faults + Map::step(c, w[k]);
       else
         Map::step(c, w[k]);

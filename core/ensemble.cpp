@@ -1,29 +1,8 @@
 #include "core/ensemble.hpp"
 
-#include <cmath>
-
 #include "core/error.hpp"
 
 namespace qmaps {
-
-std::string_view escape_reason_name(EscapeReason reason) {
-  switch (reason) {
-    case EscapeReason::none: return "none";
-    case EscapeReason::non_finite: return "non-finite";
-    case EscapeReason::beyond_bound: return "beyond bound";
-    case EscapeReason::no_convergence: return "solver did not converge";
-    case EscapeReason::zero_derivative: return "solver derivative vanished";
-    case EscapeReason::wrong_branch: return "solver root off the physical branch";
-  }
-  return "?";
-}
-
-std::uint8_t escape_reason(double fault, std::span<const double> state) {
-  if (fault != 0) return static_cast<std::uint8_t>(fault);
-  for (double x : state)
-    if (!std::isfinite(x)) return static_cast<std::uint8_t>(EscapeReason::non_finite);
-  return static_cast<std::uint8_t>(EscapeReason::beyond_bound);
-}
 
 Ensemble::Ensemble(std::size_t n, std::size_t state_size, std::size_t invariants)
     : orbits(n), padded((n + padding - 1) / padding * padding) {

@@ -2,61 +2,61 @@
 
 #include <array>
 
+#include "core/compiled_isas.hpp"
 #include "core/error.hpp"
 
 namespace qmaps {
 namespace {
 
-constexpr std::array kAllSimd = {
-#ifdef QMAPS_HAVE_SSE2
-    Isa::sse2,
-#endif
-#ifdef QMAPS_HAVE_AVX2
-    Isa::avx2,
-#endif
-#ifdef QMAPS_HAVE_AVX512
-    Isa::avx512,
-#endif
+struct IsaFacts {
+  Isa isa;
+  std::string_view name;
+  std::size_t lanes;
 };
+
+#define QMAPS_ISA_FACTS(name, arch, lanes, ...) IsaFacts{Isa::name, #name, lanes},
+constexpr std::array kFacts = {IsaFacts{Isa::scalar, "scalar", 1},
+                               QMAPS_FOR_EACH_ISA(QMAPS_ISA_FACTS)};
+#undef QMAPS_ISA_FACTS
+
+#define QMAPS_ISA_VALUE(name, ...) Isa::name,
+constexpr std::array kAll = {QMAPS_FOR_EACH_ISA(QMAPS_ISA_VALUE)};
+#undef QMAPS_ISA_VALUE
+
+#define QMAPS_COMPILED_VALUE(name) Isa::name,
+constexpr Isa kCompiled[] = {QMAPS_FOR_EACH_COMPILED_ISA(QMAPS_COMPILED_VALUE) Isa::scalar};
+#undef QMAPS_COMPILED_VALUE
+
+const IsaFacts& facts(Isa isa) { return kFacts[static_cast<std::size_t>(isa)]; }
 
 }  // namespace
 
-std::string_view isa_name(Isa isa) {
-  switch (isa) {
-    case Isa::scalar: return "scalar";
-    case Isa::sse2: return "sse2";
-    case Isa::avx2: return "avx2";
-    case Isa::avx512: return "avx512";
-  }
-  return "?";
-}
-
-std::size_t isa_lanes(Isa isa) {
-  switch (isa) {
-    case Isa::scalar: return 1;
-    case Isa::sse2: return 2;
-    case Isa::avx2: return 4;
-    case Isa::avx512: return 8;
-  }
-  return 1;
-}
+std::string_view isa_name(Isa isa) { return facts(isa).name; }
+std::size_t isa_lanes(Isa isa) { return facts(isa).lanes; }
 
 Isa parse_isa(std::string_view name) {
-  for (Isa isa : {Isa::scalar, Isa::sse2, Isa::avx2, Isa::avx512})
-    if (isa_name(isa) == name) return isa;
-  throw usage_error("unknown SIMD instruction set '" + std::string(name) +
-                    "' (expected auto, scalar, sse2, avx2 or avx512)");
+  std::string known = "auto";
+  for (const auto& f : kFacts) {
+    if (f.name == name) return f.isa;
+    known += (&f == &kFacts.back() ? " or " : ", ") + std::string(f.name);
+  }
+  throw usage_error("unknown SIMD instruction set '" + std::string(name) + "' (expected " +
+                    known + ")");
 }
 
-std::span<const Isa> compiled_isas() { return kAllSimd; }
+std::span<const Isa> all_isas() { return kAll; }
+
+// The last element of kCompiled is a sentinel (an array may not be empty).
+std::span<const Isa> compiled_isas() { return std::span(kCompiled).first(std::size(kCompiled) - 1); }
 
 bool cpu_supports(Isa isa) {
   __builtin_cpu_init();
   switch (isa) {
     case Isa::scalar: return true;
-    case Isa::sse2: return __builtin_cpu_supports("sse2");
-    case Isa::avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-    case Isa::avx512: return __builtin_cpu_supports("avx512f");
+#define QMAPS_ISA_SUPPORTED(name, arch, lanes, supported, ...) \
+  case Isa::name: return supported;
+    QMAPS_FOR_EACH_ISA(QMAPS_ISA_SUPPORTED)
+#undef QMAPS_ISA_SUPPORTED
   }
   return false;
 }

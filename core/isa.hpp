@@ -1,18 +1,23 @@
 #pragma once
 // Instruction sets: which were compiled into this binary, which the CPU has, and the choice made
-// for a run (--simd auto|scalar|sse2|avx2|avx512). `scalar` is the reference path.
+// for a run (--simd auto, scalar or an ISA of core/isa_list.hpp). `scalar` is the reference path.
 #include <cstddef>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "core/isa_list.hpp"
+
 namespace qmaps {
 
-enum class Isa { scalar, sse2, avx2, avx512 };
+#define QMAPS_ISA_ENUMERATOR(name, ...) name,
+enum class Isa { scalar, QMAPS_FOR_EACH_ISA(QMAPS_ISA_ENUMERATOR) };
+#undef QMAPS_ISA_ENUMERATOR
 
 std::string_view isa_name(Isa isa);
 Isa parse_isa(std::string_view name);        // throws qmaps::Error on an unknown name
+std::span<const Isa> all_isas();             // every SIMD ISA of the list, narrowest first
 std::span<const Isa> compiled_isas();        // SIMD ISAs built into this binary, narrowest first
 bool cpu_supports(Isa isa);                  // scalar: always true
 Isa best_isa();                              // the widest ISA compiled and supported

@@ -23,11 +23,17 @@
 //   to_phase_space(c, s)          the same for a double state, as a Phase
 //   time(c, n, s)                 physical time of node n
 //   reversed<V>(c, s)             the state whose steps retrace s backward
-//   clock<V>(s)                   only with time_per_orbit = true: the orbit's physical time
+//   time_per_orbit                true when each orbit keeps its own clock in its state; then
+//   clock<V>(s)                   the orbit's physical time
+//   reports_faults                true when step solves an equation and returns fault codes
+//   facts                         MapFacts: its example parameters, tolerances, preset and docs
 #include <array>
 #include <concepts>
 #include <span>
 #include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "core/params.hpp"
@@ -35,6 +41,34 @@
 #include "core/potential.hpp"
 
 namespace qmaps {
+
+// A parameter's value by name, as a map states its examples.
+struct NamedValue {
+  std::string_view name;
+  double value;
+};
+using ExampleParams = std::array<NamedValue, 8>;  // entries without a name are unused
+
+// The example as ParamValues.
+inline ParamValues param_values(const ExampleParams& example) {
+  ParamValues out;
+  for (const auto& [name, value] : example)
+    if (!name.empty()) out.emplace(name, value);
+  return out;
+}
+
+// What a map states about itself once, for its tests, benchmarks, `qmaps check` and docs.
+struct MapFacts {
+  ExampleParams example;      // bounded orbits from [−0.5, 0.5]⁴; check's defaults, benchmarks
+  ExampleParams escaping;     // an attractive quartic: orbits from [−1.2, 1.2]² × [−1, 1]² leave |q| ≤ 10
+  std::string_view step;      // the step parameter ("h", "ds")
+  int order;                  // convergence order to the flow (taylor start); 0: it is the reference
+  double reversal_tolerance;  // max |error| after 1000 steps forward and 1000 back
+  double drift_tolerance;     // max |I_n − I_0| / mean |I_0| over 10⁵ steps, every invariant
+  std::string_view preset;    // ensembles/presets/<preset>.toml
+  std::string_view docs;      // its heading in docs/maps.md, e.g. "## 3. `suris`"
+  bool slow;                  // solves an equation or evaluates many forces per step
+};
 
 template <class M>
 concept KernelMap = requires(const typename M::Coeffs& c, typename M::template State<double> s,
@@ -58,6 +92,14 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
   { M::to_phase_space(c, s) } -> std::same_as<Phase>;
   { M::time(c, 0LL, s) } -> std::same_as<double>;
   { M::reversed(c, s) } -> std::same_as<typename M::template State<double>>;
-};
+  { M::time_per_orbit } -> std::convertible_to<bool>;
+  { M::reports_faults } -> std::convertible_to<bool>;
+  { M::facts } -> std::convertible_to<MapFacts>;
+} && (M::reports_faults == !std::is_void_v<decltype(M::step(
+                               std::declval<const typename M::Coeffs&>(),
+                               std::declval<typename M::template State<double>&>()))>) &&
+    (!M::time_per_orbit || requires(typename M::template State<double> s) {
+      { M::clock(s) } -> std::same_as<double>;
+    });
 
 }  // namespace qmaps

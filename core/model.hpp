@@ -1,6 +1,7 @@
 #pragma once
 // A map with its parameters resolved: the run-time face of a kernel, so that the command line,
 // the I/O and the tests handle every map alike. ModelOf<Map> (core/model_of.hpp) implements it.
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <span>
@@ -9,21 +10,15 @@
 #include <vector>
 
 #include "core/ensemble.hpp"
+#include "core/execution.hpp"
 #include "core/isa.hpp"
-#include "core/observers.hpp"
+#include "core/observers/observers.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
 #include "core/run_plan.hpp"
 
 namespace qmaps {
-
-// How the runner executes: which path, how many threads, how many SIMD chains per block.
-struct Execution {
-  Isa isa = Isa::scalar;
-  int threads = 1;
-  int chains = 8;  // 1, 2, 4 or 8
-};
 
 class Model {
  public:
@@ -70,6 +65,9 @@ class Model {
   virtual bool time_per_orbit() const = 0;
   // Replaces every orbit's state by the one whose steps retrace it backward.
   virtual void reverse(Ensemble& e) const = 0;
+  // a·b + c computed in a batch and in a scalar inside the map's `isa` translation unit: both
+  // round twice there, or contraction is on (tests/contraction_test.cpp).
+  virtual std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const = 0;
 };
 
 }  // namespace qmaps

@@ -1,15 +1,13 @@
 #pragma once
-// ModelOf<Map>: a kernel's Model. The scalar path is instantiated here; the SIMD paths are the
-// per-ISA instantiations of advance_blocks<Map, Arch>, run over blocks by OpenMP (static schedule).
+// ModelOf<Map>: the adapter that hides a map's type behind Model. It resolves the parameters once,
+// starts orbits, converts states, and hands runs to the runner (core/runner.hpp).
 #include <stdexcept>
 #include <string>
 
-#include "core/advance.hpp"
 #include "core/error.hpp"
 #include "core/map_concept.hpp"
-#include "core/reference.hpp"
-#include "core/tracking.hpp"
-#include "core/xsimd_arch.hpp"
+#include "core/model.hpp"
+#include "core/runner.hpp"
 
 namespace qmaps {
 
@@ -51,29 +49,10 @@ class ModelOf final : public Model {
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
-    if (plan.stride < 1) throw usage_error("stride must be >= 1");
-    if (x.isa == Isa::scalar) {
-      advance_reference<Map>(c_, e, plan, observers);
-    } else {
-      const auto run = blocks_for(x.isa);
-      const std::size_t block = isa_lanes(x.isa) * static_cast<std::size_t>(x.chains);
-      if (Ensemble::padding % block != 0)
-        throw usage_error("chains must be 1, 2, 4 or 8 (got " + std::to_string(x.chains) + ")");
-      // Whole blocks of real orbits; the padding lanes past the last real orbit are never sampled.
-      const long long blocks = static_cast<long long>((e.orbits + block - 1) / block);
-#pragma omp parallel num_threads(x.threads)
-      {
-        Observers partial = observers ? observers->empty_copy() : Observers{};
-        Observers* mine = observers ? &partial : nullptr;
-#pragma omp for schedule(static)
-        for (long long b = 0; b < blocks; ++b)
-          run(c_, e, static_cast<std::size_t>(b) * block, block, x.chains, plan, mine);
-#pragma omp critical(qmaps_merge_observers)
-        if (observers) observers->merge(partial);
-      }
-    }
-    if (observers) observers->finish();
-    e.step = plan.last;
+    run<Map>(c_, e, plan, x, observers);
+  }
+  std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const override {
+    return simd_path<Map>(isa).contraction_probe(a, b, c);
   }
 
   Phase phase(const Ensemble& e, std::size_t orbit) const override {
@@ -93,10 +72,7 @@ class ModelOf final : public Model {
   double time(const Ensemble& e, std::size_t orbit) const override {
     return Map::time(c_, e.step, state_of(e, orbit));
   }
-  bool time_per_orbit() const override {
-    if constexpr (requires { Map::time_per_orbit; }) return Map::time_per_orbit;
-    return false;
-  }
+  bool time_per_orbit() const override { return Map::time_per_orbit; }
   void reverse(Ensemble& e) const override {
     for (std::size_t i = 0; i < e.padded; ++i) {
       const auto s = Map::reversed(c_, state_of(e, i));
@@ -105,9 +81,6 @@ class ModelOf final : public Model {
   }
 
  private:
-  using Blocks = void (*)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
-                          const RunPlan&, Observers*);
-
   // Starts orbits [first, first + n) of e in the states state_at(0 … n − 1), in parallel:
   // escaped at step 0 where already beyond the bound or non-finite, with their invariants'
   // initial values.
@@ -140,21 +113,6 @@ class ModelOf final : public Model {
     typename Map::template State<double> s;
     for (std::size_t k = 0; k < s.size(); ++k) s[k] = e.state[k][orbit];
     return s;
-  }
-
-  static Blocks blocks_for(Isa isa) {
-    switch (isa) {
-#ifdef QMAPS_HAVE_SSE2
-      case Isa::sse2: return &advance_blocks<Map, arch_of<Isa::sse2>>;
-#endif
-#ifdef QMAPS_HAVE_AVX2
-      case Isa::avx2: return &advance_blocks<Map, arch_of<Isa::avx2>>;
-#endif
-#ifdef QMAPS_HAVE_AVX512
-      case Isa::avx512: return &advance_blocks<Map, arch_of<Isa::avx512>>;
-#endif
-      default: throw Error(ExitCode::unsupported, "no SIMD path for " + std::string(isa_name(isa)));
-    }
   }
 
   std::vector<double> values_;

@@ -94,9 +94,9 @@ inline batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) 
 
 template <class A>
 inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
-  if constexpr (std::is_same_v<A, xsimd::avx512f>) {
+  if constexpr (batch<A>::size == 8) {
     return _mm512_fmadd_pd(a, b, c);  // xsimd 8 falls back to a·b + c on avx512f: not fused
-  } else if constexpr (std::is_same_v<A, xsimd::fma3<xsimd::avx2>>) {
+  } else if constexpr (batch<A>::size == 4) {  // the 4-lane ISA of the list has FMA
     return _mm256_fmadd_pd(a, b, c);
   } else {
     return detail::fma_per_lane(a, b, c, false);
@@ -104,9 +104,9 @@ inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
 }
 template <class A>
 inline batch<A> fms(batch<A> a, batch<A> b, batch<A> c) {
-  if constexpr (std::is_same_v<A, xsimd::avx512f>) {
+  if constexpr (batch<A>::size == 8) {
     return _mm512_fmsub_pd(a, b, c);
-  } else if constexpr (std::is_same_v<A, xsimd::fma3<xsimd::avx2>>) {
+  } else if constexpr (batch<A>::size == 4) {
     return _mm256_fmsub_pd(a, b, c);
   } else {
     return detail::fma_per_lane(a, b, c, true);
@@ -118,7 +118,7 @@ template <class A>
 inline batch<A> abs(batch<A> a) { return xsimd::abs(a); }
 template <class A>
 inline batch<A> floor(batch<A> a) {
-  if constexpr (std::is_same_v<A, xsimd::avx512f>)  // xsimd's form reads an undefined register
+  if constexpr (batch<A>::size == 8)  // xsimd's form reads an undefined register
     return _mm512_maskz_roundscale_pd(0xFF, a, _MM_FROUND_TO_NEG_INF);
   else
     return xsimd::floor(a);

@@ -1,5 +1,5 @@
 #pragma once
-// The continuous system a map discretizes (MAPS.md §0):
+// The continuous system a map discretizes (docs/maps.md §1):
 //   H = ½(p1² + p2²) + V(q),  V = A q1² + B q2² + α q1⁴ + β q2⁴ + δ q1²q2².
 // Each kernel names its (A, B, α, β, δ); the `shell` ensemble solves H = E with it.
 #include "core/phase.hpp"

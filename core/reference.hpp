@@ -5,7 +5,7 @@
 
 #include "core/ensemble.hpp"
 #include "core/run_plan.hpp"
-#include "core/tracking.hpp"
+#include "core/observers/tracking.hpp"
 
 namespace qmaps {
 

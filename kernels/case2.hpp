@@ -1,5 +1,6 @@
 #pragma once
-// Case II (β = α, δ = 6α, B = A), symmetric map; MAPS.md §2 (errata E6, E7) and §2a (E8).
+// Case II (β = α, δ = 6α, B = A), symmetric map; docs/maps.md §4 and §5, errata E6–E8
+// (docs/maps.md §9).
 // u± = q1 ± q2 decouple case II into two oscillators ü = −2Au − 4αu³, each discretized as
 // (decoupled_dis) (z − 2y + x)/h² = −2Ay − 2αy²(z + x), with x = u_{n−1}, y = u_n, z = u_{n+1}:
 //
@@ -19,11 +20,11 @@
 // c2 and g are the map's own rounded coefficients (2 − 2a is exact for ½ ≤ a ≤ 2) and 1/(2h²) is
 // a common factor, so these are the invariants of the map as it is computed.
 //
-// Case2Staggered (§2a, E8): the paper's "asymmetric" discrete-case2-2 (with the E6 factor) is
-// this map for (q1_n, Q2_n), Q2_n := q2_{n−1} in the paper's indexing: the same arithmetic on
-// the state (q1_n, q2_{n−1}, q1_{n+1}, q2_n). It starts with Q2_0 = q2(0), so the paper's
-// q2_m ≈ q2(t_{m+1}): its q2_{n−1} is q2 at node n. H±, I1, I2 are invariant on this staggered
-// pairing; on the naive one (q1_n, q2_n; q1_{n+1}, q2_{n+1}) they are not.
+// Case2Staggered (docs/maps.md §5, E8): the paper's "asymmetric" discrete-case2-2 (with the E6
+// factor) is this map for (q1_n, Q2_n), Q2_n := q2_{n−1} in the paper's indexing: the same
+// arithmetic on the state (q1_n, q2_{n−1}, q1_{n+1}, q2_n). It starts with Q2_0 = q2(0), so the
+// paper's q2_m ≈ q2(t_{m+1}): its q2_{n−1} is q2 at node n. H±, I1, I2 are invariant on this
+// staggered pairing; on the naive one (q1_n, q2_n; q1_{n+1}, q2_{n+1}) they are not.
 #include <array>
 #include <span>
 #include <string>
@@ -32,6 +33,7 @@
 
 #include "core/error.hpp"
 #include "core/ops.hpp"
+#include "core/map_concept.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
@@ -47,6 +49,14 @@ struct Case2 : TwoStep<Case2> {
       "(osillators-decoupled), (decoupled_dis), (discrete-case2) corrected; invariants "
       "(Hamiltonian-dis), I1, I2 (errata E6, E7)";
   static constexpr std::string_view invariant_summary = "H1, H2, I1, I2";
+  static constexpr bool time_per_orbit = false;
+  static constexpr bool reports_faults = false;
+  static constexpr MapFacts facts = {
+      .example = {{{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}}},
+      .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}}},
+      .step = "h", .order = 2,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
+      .preset = "case2", .slow = false};
   static constexpr std::array<ParamSpec, 3> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},
       {"alpha", "quartic coupling: alpha (q1^4 + q2^4) + 6 alpha q1^2 q2^2"},
@@ -66,7 +76,7 @@ struct Case2 : TwoStep<Case2> {
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p); }
 
-  // The continuous system this map discretizes (MAPS.md §0).
+  // The continuous system this map discretizes (docs/maps.md §1).
   static Potential continuous(const Coeffs& c) {
     return {c.A, c.A, c.alpha, c.alpha, 6 * c.alpha};
   }
@@ -147,6 +157,11 @@ struct Case2Staggered : Case2 {
       "staggered pairing (errata E6-E8)";
   static constexpr std::string_view invariant_summary =
       "H1, H2, I1, I2 (staggered pairing)";
+  static constexpr MapFacts facts = {
+      .example = Case2::facts.example, .escaping = Case2::facts.escaping,
+      .step = "h", .order = 2,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
+      .preset = "case2-staggered", .slow = false};
   static constexpr std::array<std::string_view, 4> state_names = {"q1_n", "q2_n-1", "q1_n+1",
                                                                    "q2_n"};
 

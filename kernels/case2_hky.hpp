@@ -1,7 +1,7 @@
 #pragma once
 // Case II (β = α, δ = 6α, B = A) with the general discrete oscillator of [HKY] applied to
-// u± = q1 ± q2 (discrete-case3); MAPS.md §2b, errata E9–E11. With x = u_{n−1}, y = u_n and
-// z = u_{n+1}:
+// u± = q1 ± q2 (discrete-case3); docs/maps.md §6, errata E9–E11 (docs/maps.md §9). With
+// x = u_{n−1}, y = u_n and z = u_{n+1}:
 //
 //   (z − 2y + x)/h² + 2A[c11 y + c12(z + x)] + 4α[c21 zyx + c22 y²(z + x)] = 0, i.e.
 //   k3 xyz + (z + x)(k0 + k2 y²) − k1 y = 0,
@@ -36,6 +36,7 @@
 
 #include "core/error.hpp"
 #include "core/ops.hpp"
+#include "core/map_concept.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
@@ -52,6 +53,14 @@ struct Case2Hky : TwoStep<Case2Hky> {
       "(discrete-case3) corrected, [HKY] oscillators; invariant K, [HKY]'s H1, H2 corrected "
       "(errata E9-E11)";
   static constexpr std::string_view invariant_summary = "K+, K-, I1, I2";
+  static constexpr bool time_per_orbit = false;
+  static constexpr bool reports_faults = false;
+  static constexpr MapFacts facts = {
+      .example = {{{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}},
+      .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}},
+      .step = "h", .order = 2,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
+      .preset = "case2-hky", .slow = false};
   static constexpr double no_default = std::numeric_limits<double>::quiet_NaN();
   static constexpr std::array<ParamSpec, 9> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},
@@ -103,7 +112,7 @@ struct Case2Hky : TwoStep<Case2Hky> {
             k0 - 1, 2 - k1, 1 / h2};
   }
 
-  // The continuous system this map discretizes (MAPS.md §0).
+  // The continuous system this map discretizes (docs/maps.md §1).
   static Potential continuous(const Coeffs& c) {
     return {c.A, c.A, c.alpha, c.alpha, 6 * c.alpha};
   }

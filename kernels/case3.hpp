@@ -1,6 +1,6 @@
 #pragma once
 // Case III (β = 16α, δ = 12α, B = 4A) through the Levi-Civita map and a fictitious time s;
-// MAPS.md §3, with errata E12–E15.
+// docs/maps.md §7, with errata E12–E15, E17 (docs/maps.md §9).
 //
 //   q1 = u1u2, q2 = (u1² − u2²)/2, r² = u1² + u2² = 2|q|, dt = r² ds, λ = H(q0, p0) per orbit.
 //   Each u_k (k = 1, 2) follows its own two-step scheme; with v = u_{k,n−1}, u = u_{k,n},
@@ -21,9 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "core/ensemble.hpp"
+#include "core/escape.hpp"
 #include "core/error.hpp"
 #include "core/ops.hpp"
+#include "core/map_concept.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
@@ -50,6 +51,13 @@ struct Case3 {
   using State = std::array<V, 7>;
   static constexpr std::size_t max_invariants = 2;
   static constexpr bool time_per_orbit = true;
+  static constexpr bool reports_faults = true;
+  static constexpr MapFacts facts = {
+      .example = {{{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}}},
+      .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"ds", 0.1}}},
+      .step = "ds", .order = 2,
+      .reversal_tolerance = 1e-10, .drift_tolerance = 1e-10,  // measured 2.6e-11, 1.1e-11
+      .preset = "case3", .slow = true};
   static constexpr int max_iterations = 40;
 
   struct Coeffs {
@@ -70,7 +78,7 @@ struct Case3 {
             1 / ds, ds / 2, order == 2};
   }
 
-  // The continuous system this map discretizes (MAPS.md §0).
+  // The continuous system this map discretizes (docs/maps.md §1).
   static Potential continuous(const Coeffs& c) {
     return {c.A, 4 * c.A, c.alpha, 16 * c.alpha, 12 * c.alpha};
   }

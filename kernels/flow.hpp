@@ -1,5 +1,5 @@
 #pragma once
-// The continuous flow of H = ½|p|² + A q1² + B q2² + α q1⁴ + β q2⁴ + δ q1²q2² (MAPS.md §0),
+// The continuous flow of H = ½|p|² + A q1² + B q2² + α q1⁴ + β q2⁴ + δ q1²q2² (docs/maps.md §1),
 // integrated by explicit symplectic compositions of Störmer–Verlet; the state is (q1, q2, p1, p2)
 // at t = nh.
 //
@@ -17,8 +17,8 @@
 //   with w0 = 1 − 2(w1 + … + wm). Solution A of order 8 has a large error constant: in the tests
 //   its error at t = 1 exceeds order 6's down to h ≈ 1/140 (7.9e-12 against 1.7e-12 at h = 1/64).
 //
-// Invariants: H, and the second integral of the case the parameters satisfy (MAPS.md §0, with
-// erratum E1: 2α in case III), L = q1p2 − q2p1:
+// Invariants: H, and the second integral of the case the parameters satisfy (docs/maps.md §1),
+// with 2α in case III by erratum E1 (docs/maps.md §9), L = q1p2 − q2p1:
 //   I   β = α, δ = 2α            I_case1 = L² + (B−A)/α · {p1² + 2q1²[A + α(q1²+q2²)]}
 //   II  β = α, δ = 6α, B = A     I_case2 = p1p2 + 2q1q2[A + 2α(q1²+q2²)]
 //   III β = 16α, δ = 12α, B = 4A I_case3 = L p1 + 2q1²q2[A + 2α(q1²+2q2²)]
@@ -39,6 +39,7 @@
 
 #include "core/error.hpp"
 #include "core/ops.hpp"
+#include "core/map_concept.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
@@ -70,6 +71,8 @@ struct SplitFlow {
   template <class V>
   using State = std::array<V, 4>;
   static constexpr std::size_t max_invariants = 2;
+  static constexpr bool time_per_orbit = false;
+  static constexpr bool reports_faults = false;
 
   struct Coeffs {
     double A, B, alpha, beta, delta, h;
@@ -88,7 +91,7 @@ struct SplitFlow {
     return names[static_cast<std::size_t>(c.which)];
   }
 
-  // The continuous system this map discretizes (MAPS.md §0).
+  // The continuous system this map discretizes (docs/maps.md §1).
   static Potential continuous(const Coeffs& c) {
     return {c.A, c.B, c.alpha, c.beta, c.delta};
   }
@@ -210,6 +213,14 @@ struct Flow : detail::SplitFlow {
       "(hamilton-cont), (cont-quartic); the second integrals of cases I-IV (erratum E1)";
   static constexpr std::string_view invariant_summary =
       "H, and I_caseN of the case I-IV the parameters satisfy";
+  // Case I's parameters; H and I_case1 are conserved to the composition's order (h⁸), not exactly.
+  static constexpr MapFacts facts = {
+      .example = {{{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"beta", 0.9}, {"delta", 1.8}, {"h", 0.1}}},
+      .escaping = {{{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"beta", -0.4}, {"delta", 0.2},
+                    {"h", 0.05}}},
+      .step = "h", .order = 0,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 6e-3,  // measured 1.2e-3 (h = 0.1)
+      .preset = "case4-flow", .slow = true};
   static constexpr std::array<ParamSpec, 7> params = [] {
     std::array<ParamSpec, 7> p{};
     std::copy(detail::flow_params.begin(), detail::flow_params.end(), p.begin());
@@ -231,6 +242,12 @@ struct Leapfrog : detail::SplitFlow {
       "the continuous flow, Stormer-Verlet (drift-kick-drift), order 2";
   static constexpr std::string_view equations = Flow::equations;
   static constexpr std::string_view invariant_summary = Flow::invariant_summary;
+  // Case I's parameters; H and I_case1 oscillate at O(h²) about their initial values.
+  static constexpr MapFacts facts = {
+      .example = Flow::facts.example, .escaping = Flow::facts.escaping,
+      .step = "h", .order = 2,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 0.15,  // measured 3.1e-2
+      .preset = "leapfrog", .slow = false};
   static constexpr std::array<ParamSpec, 6> params = detail::flow_params;
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p, 2); }

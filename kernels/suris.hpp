@@ -1,6 +1,7 @@
 #pragma once
-// Suris' map: the paper's case I (β = α, δ = 2α), discretization (b); MAPS.md §1. Discretization
-// (a) solves to the same update (§1a). With x = q_{n−1}, y = q_n, z = q_{n+1}:
+// Suris' map: the paper's case I (β = α, δ = 2α), discretization (b); docs/maps.md §3,
+// errata E2–E5 (docs/maps.md §9). Discretization (a) solves to the same update. With
+// x = q_{n−1}, y = q_n, z = q_{n+1}:
 //
 //   D  = 1 + 2αh²(y1² + y2²)
 //   z1 = 2(1 − Ah²) y1 / D − x1,      z2 = 2(1 − Bh²) y2 / D − x2
@@ -11,7 +12,7 @@
 //   I2 = the same with 1 ↔ 2, a ↔ b                                    (A ≠ B only; erratum E3)
 //   I1 + I2 = 2h² H. I1 and I2 are evaluated in the algebraically equal, well-conditioned form
 //   I1 = (v1−u1)² + 2Ah² u1v1 + g u1²v1² + g a²(X−Y)²/(a²−b²) + 2g a XY/(a+b), X = v1u2, Y = u1v2.
-//   A = B (§1b): L = u1v2 − v1u2 = Y − X instead of I1, I2 (the discrete angular momentum).
+//   A = B: L = u1v2 − v1u2 = Y − X instead of I1, I2 (the discrete angular momentum).
 #include <array>
 #include <span>
 #include <string>
@@ -20,6 +21,7 @@
 
 #include "core/error.hpp"
 #include "core/ops.hpp"
+#include "core/map_concept.hpp"
 #include "core/params.hpp"
 #include "core/phase.hpp"
 #include "core/potential.hpp"
@@ -35,6 +37,14 @@ struct Suris : TwoStep<Suris> {
       "(disc-quarticb1/b2), identical to (disc-quartica1/2); invariants (disc-hamilton2), Suris' "
       "I1, I2 (errata E2-E5)";
   static constexpr std::string_view invariant_summary = "H, I1, I2 (A != B); H, L (A = B)";
+  static constexpr bool time_per_orbit = false;
+  static constexpr bool reports_faults = false;
+  static constexpr MapFacts facts = {
+      .example = {{{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}}},
+      .escaping = {{{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"h", 0.1}}},
+      .step = "h", .order = 2,
+      .reversal_tolerance = 1e-11, .drift_tolerance = 2e-11,
+      .preset = "suris", .slow = false};
   static constexpr std::array<ParamSpec, 4> params = {{
       {"A", "coefficient of q1^2 in the potential"},
       {"B", "coefficient of q2^2 in the potential"},
@@ -76,7 +86,7 @@ struct Suris : TwoStep<Suris> {
     return c;
   }
 
-  // The continuous system this map discretizes (MAPS.md §0).
+  // The continuous system this map discretizes (docs/maps.md §1).
   static Potential continuous(const Coeffs& c) {
     return {c.A, c.B, c.alpha, c.alpha, 2 * c.alpha};
   }

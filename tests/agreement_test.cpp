@@ -3,6 +3,7 @@
 // byte: final states, escape steps and reasons, invariant drift.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cinttypes>
 #include <cstdio>
 #include <cstring>
@@ -11,13 +12,14 @@
 
 #include "core/isa.hpp"
 #include "ensemble_fixtures.hpp"
+#include "isas_run.hpp"
 
 namespace qmaps {
 namespace {
 
 struct Scenario {
-  const char* name;
-  const char* map;
+  std::string name;
+  std::string map;
   ParamValues params;
   double q, p, escape_bound;
   bool escapes = false;   // the scenario must exercise escapes (and keep some orbits)
@@ -25,37 +27,34 @@ struct Scenario {
   bool on_plane = false;  // state (q2_n, q2_n+1) = (+0, −0)
 };
 
-// One line per map and regime: bounded orbits; orbits escaping over the barrier of an
-// attractive quartic (α < 0); orbits in the invariant plane q2 = p2 = 0, with the one pair of
-// zeros whose step −0·x + −(+0) tells an exact negation from 0 − x (zeros merge after one step).
-const ParamValues suris_p{{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}};
-const ParamValues case2_p{{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}};
-const ParamValues case3_p{{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}};
-const ParamValues flow_p{{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2}, {"delta", 5.4}, {"h", 0.05}};
-const Scenario scenarios[] = {
-    {"suris", "suris", suris_p, 0.5, 0.5, 1e8},
-    {"suris_escaping", "suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"h", 0.1}}, 1.2, 1.0, 10, true},
-    {"suris_plane", "suris", suris_p, 0.5, 0.5, 1e8, false, 1, true},
-    {"suris_A_eq_B", "suris", {{"A", 0.5}, {"B", 0.5}, {"alpha", 0.9}, {"h", 0.1}}, 0.5, 0.5, 1e8},
-    {"case2", "case2", case2_p, 0.5, 0.5, 1e8},
-    {"case2_escaping", "case2", {{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}}, 1.2, 1.0, 10, true},
-    {"case2_staggered", "case2-staggered", case2_p, 0.5, 0.5, 1e8},
-    {"case2_hky_gamma", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}, 0.5, 0.5, 1e8},
-    {"case2_hky_c", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"c11", 0.37}, {"c12", 0.41}, {"c21", 0.77}, {"c22", 0.19}}, 0.5, 0.5, 1e8},
-    {"case3", "case3", case3_p, 0.5, 0.5, 1e8},
-    {"case3_left", "case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}, {"t_order", 1}}, 0.5, 0.5, 1e8},
-    {"case3_escaping", "case3", {{"A", 0.7}, {"alpha", -0.4}, {"ds", 0.1}}, 1.2, 1.0, 10, true},
-    {"flow", "flow", flow_p, 0.5, 0.5, 1e8},
-    {"flow_escaping", "flow", {{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"beta", -0.4}, {"delta", 0.2}, {"h", 0.05}}, 1.2, 1.0, 10, true},
-    {"leapfrog", "leapfrog", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"beta", 0.9}, {"delta", 1.8}, {"h", 0.05}}, 0.5, 0.5, 1e8},
-};
+// Three per map of kernels/maps.hpp, from its example: bounded orbits; orbits escaping over the
+// barrier of an attractive quartic (α < 0); orbits in the invariant plane q2 = p2 = 0, with the
+// one pair of zeros whose step −0·x + −(+0) tells an exact negation from 0 − x (zeros merge after
+// one step). Then the regimes a map's example does not reach.
+std::vector<Scenario> scenarios() {
+  std::vector<Scenario> out;
+  for (const MapEntry& m : catalogue()) {
+    std::string id(m.name);
+    std::replace(id.begin(), id.end(), '-', '_');
+    const ParamValues example = param_values(m.facts->example);
+    out.push_back({id, std::string(m.name), example, 0.5, 0.5, 1e8});
+    out.push_back({id + "_escaping", std::string(m.name), param_values(m.facts->escaping), 1.2,
+                   1.0, 10, true});
+    out.push_back({id + "_plane", std::string(m.name), example, 0.5, 0.5, 1e8, false, 1, true});
+  }
+  out.push_back({"suris_A_eq_B", "suris", {{"A", 0.5}, {"B", 0.5}, {"alpha", 0.9}, {"h", 0.1}}, 0.5, 0.5, 1e8});
+  out.push_back({"case2_hky_c", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"c11", 0.37}, {"c12", 0.41}, {"c21", 0.77}, {"c22", 0.19}}, 0.5, 0.5, 1e8});
+  out.push_back({"case3_left", "case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}, {"t_order", 1}}, 0.5, 0.5, 1e8});
+  out.push_back({"flow_case4", "flow", {{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2}, {"delta", 5.4}, {"h", 0.05}}, 0.5, 0.5, 1e8});
+  return out;
+}
 
 // Suris runs every ensemble size of the backbone's contract; every other map the three smaller.
 std::vector<std::tuple<Scenario, std::size_t>> cases() {
   std::vector<std::tuple<Scenario, std::size_t>> out;
-  for (const auto& s : scenarios)
+  for (const auto& s : scenarios())
     for (std::size_t n : {1, 7, 1001, 65537})
-      if (n < 65537 || std::string(s.map) == "suris") out.emplace_back(s, n);
+      if (n < 65537 || s.map == "suris") out.emplace_back(s, n);
   return out;
 }
 
@@ -140,11 +139,9 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
     EXPECT_LT(escaped, orbits) << "and keep some orbits bounded";
   }
 
-  const auto isas = runnable_isas();
+  const auto isas = testing::isas_to_run();
   ASSERT_FALSE(isas.empty());
-  std::string ran;
   for (Isa isa : isas) {
-    ran += std::string(isa_name(isa)) + " ";
     for (int threads : {1, 2})
       for (int chains : {1, 2, 4, 8}) {
         Ensemble e = fresh();
@@ -153,13 +150,12 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
             << "ISA " << isa_name(isa) << ", " << threads << " threads, " << chains << " chains";
       }
   }
-  std::cout << "[ ISAs run ] " << ran << '\n';
 }
 
 TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun) {
   const Ensemble whole = reference();
 
-  const auto isas = runnable_isas();
+  const auto isas = testing::isas_to_run();
   Ensemble cut = fresh();
   const long long n = scenario.steps;
   std::set<long long> cuts = {0, std::min(1LL, n), n / 3, n / 3 + 1, n * 5 / 6, n};

@@ -3,7 +3,9 @@
 and every map appears on the scalar path and on every ISA compiled and supported here, on 1 and 2
 threads; every peer appears. Speeds are not checked.
 
-    bench_report_test.py REPORT BUILD_DIR OUT_DIR --maps M... --isas I...
+    bench_report_test.py REPORT BUILD_DIR OUT_DIR --qmaps BINARY --isas I...
+
+The maps are those `qmaps list` names (kernels/maps.hpp).
 """
 import argparse
 import json
@@ -29,9 +31,12 @@ def main():
     parser.add_argument("report")
     parser.add_argument("build_dir")
     parser.add_argument("out_dir")
-    parser.add_argument("--maps", nargs="+", required=True)
+    parser.add_argument("--qmaps", required=True)
     parser.add_argument("--isas", nargs="+", required=True)
     args = parser.parse_args()
+    listing = subprocess.run([args.qmaps, "list"], check=True, capture_output=True, text=True)
+    args.maps = [line.split(":", 1)[0] for line in listing.stdout.splitlines()
+                 if line and not line[0].isspace()]
     out = pathlib.Path(args.out_dir)
     out.mkdir(parents=True, exist_ok=True)
     rows_file = out / "smoke.json"

@@ -1,6 +1,6 @@
 // The case II kernels (kernels/case2.hpp, kernels/case2_hky.hpp), tested directly at V = double
 // and V = long double: parameter validation; conservation of every invariant; the corrected
-// q-forms of MAPS.md §2, §2a, §2b hold on computed orbits and the printed ones do not; the
+// q-forms of docs/maps.md §4, §5, §6 hold on computed orbits and the printed ones do not; the
 // identities between the invariants and their continuum limits; case2-staggered as a relabelling
 // of case2; the HKY map's parameters and its reduction to the symmetric map; reversibility.
 // Tolerance bounds are about ten times the figures measured (printed by the tests).
@@ -441,8 +441,8 @@ TEST(Case2Hky, SymmetricCoefficientsGiveTheCase2MapWithinTolerance) {
 }
 
 // Residuals of (discrete-case3) on an HKY orbit with arbitrary c's: the corrected q-form of
-// MAPS.md §2b (E9) vanishes, the printed one does not. The floor is set by the rounding of the
-// map's double coefficients k0 … k3, divided by h².
+// docs/maps.md §6 vanishes, the printed one, erratum E9 (docs/maps.md §9), does not. The floor is
+// set by the rounding of the map's double coefficients k0 … k3, divided by h².
 TEST(Case2Hky, CorrectedQFormHoldsOnTheOrbitAndPrintedFormDoesNotWithinTolerance) {
   const double h = 0.1;
   const auto c = coeffs<Case2Hky>(arbitrary_c(h));

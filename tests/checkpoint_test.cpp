@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/h5.hpp"
+#include "core/io/h5.hpp"
 #include "core/isa.hpp"
 #include "core/version.hpp"
 #include "run_process.hpp"

@@ -1,6 +1,6 @@
 // Config: TOML parsing, --set overrides, typed accessors, ranges and unknown keys, and the message
 // of every error (source, line, section, key).
-#include "core/config.hpp"
+#include "ensembles/config/config.hpp"
 
 #include <gtest/gtest.h>
 

@@ -4,9 +4,9 @@
 #include <vector>
 
 #include "core/model.hpp"
-#include "ensembles/box.hpp"
-#include "ensembles/catalogue.hpp"
-#include "ensembles/initial_conditions.hpp"
+#include "ensembles/kinds/box.hpp"
+#include "kernels/catalogue.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
 
 namespace qmaps::testing {
 

@@ -9,17 +9,17 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
+#include "ensembles/config/config.hpp"
 #include "core/error.hpp"
-#include "core/h5.hpp"
+#include "core/io/h5.hpp"
 #include "core/rng.hpp"
-#include "ensembles/box.hpp"
-#include "ensembles/catalogue.hpp"
-#include "ensembles/from_file.hpp"
-#include "ensembles/grid.hpp"
-#include "ensembles/initial_conditions.hpp"
-#include "ensembles/line.hpp"
-#include "ensembles/shell.hpp"
+#include "ensembles/kinds/box.hpp"
+#include "kernels/catalogue.hpp"
+#include "ensembles/kinds/from_file.hpp"
+#include "ensembles/kinds/grid.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/kinds/line.hpp"
+#include "ensembles/kinds/shell.hpp"
 #include "run_process.hpp"
 
 namespace qmaps::testing {

@@ -30,8 +30,8 @@ static_assert(KernelMap<Flow>);
 static_assert(KernelMap<Leapfrog>);
 static_assert(Flow::params.size() == 7 && Leapfrog::params.size() == 6);
 
-// (A, B, alpha, beta, delta) of each case, from A = 0.7, α = 0.9 (MAPS.md §5, P1), and a set that
-// satisfies none.
+// (A, B, alpha, beta, delta) of each case, from the example A = 0.7, α = 0.9 (docs/maps.md §2),
+// and a set that satisfies none.
 using Potential = std::array<double, 5>;
 constexpr double A0 = 0.7, a0 = 0.9;
 constexpr std::array<Potential, 4> cases = {{{A0, 0.3, a0, a0, 2 * a0},
@@ -40,7 +40,7 @@ constexpr std::array<Potential, 4> cases = {{{A0, 0.3, a0, a0, 2 * a0},
                                              {A0, 4 * A0, a0, 8 * a0, 6 * a0}}};
 constexpr std::array<std::string_view, 4> names = {"I", "II", "III", "IV"};
 constexpr Potential generic = {A0, 0.3, a0, 0.5, 0.4};
-// The initial conditions of MAPS.md §5.
+// The initial conditions of docs/maps.md §2.
 constexpr std::array<std::array<double, 4>, 3> starts = {
     {{0.3, -0.2, 0.1, 0.4}, {0.5, 0.1, -0.3, 0.2}, {-0.1, 0.45, 0.25, -0.15}}};
 
@@ -364,7 +364,7 @@ long double kernel_I(const Flow::Coeffs& c, const std::array<long double, 4>& s)
   return out[1];
 }
 
-// Case III's integral as printed in the paper: α where 2α belongs (MAPS.md erratum E1).
+// Case III's integral as printed in the paper: α where 2α belongs, erratum E1 (docs/maps.md §9).
 long double printed_I3(const Flow::Coeffs& c, const std::array<long double, 4>& s) {
   const long double q1 = s[0], q2 = s[1], p1 = s[2], p2 = s[3];
   return (q1 * p2 - q2 * p1) * p1 + 2 * q1 * q1 * q2 * (c.A + c.alpha * (q1 * q1 + 2 * q2 * q2));

@@ -11,9 +11,9 @@
 #include <thread>
 #include <vector>
 
-#include "core/config.hpp"
+#include "ensembles/config/config.hpp"
 #include "core/error.hpp"
-#include "core/h5.hpp"
+#include "core/io/h5.hpp"
 #include "core/version.hpp"
 #include "kernels/suris.hpp"
 #include "run_process.hpp"

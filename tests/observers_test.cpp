@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "core/isa.hpp"
+#include "core/observers/histogram_lanes.hpp"
 #include "ensemble_fixtures.hpp"
 #include "kernels/suris.hpp"
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "core/config.hpp"
-#include "core/h5.hpp"
+#include "ensembles/config/config.hpp"
+#include "core/io/h5.hpp"
 #include "run_process.hpp"
 
 namespace qmaps::testing {

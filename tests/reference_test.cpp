@@ -1,8 +1,8 @@
 // Independent references for the Suris kernel, all tolerance checks:
 //  - the same kernel template at V = long double (64-bit significand) follows the double path
 //    within a stated tolerance over 1000 steps, and conserves H, I1, I2 far better;
-//  - discretization (a), solved as its 2×2 linear system (MAPS.md §1a), gives the Suris update;
-//  - the invariants in their well-conditioned form equal the literal formulas of MAPS.md §1.
+//  - discretization (a), solved as its 2×2 linear system (docs/maps.md §3), gives the Suris update;
+//  - the invariants in their well-conditioned form equal the literal formulas of docs/maps.md §3.
 #include <gtest/gtest.h>
 
 #include <array>

@@ -7,8 +7,8 @@
 #include <cstdint>
 
 #include "core/rng.hpp"
-#include "ensembles/box.hpp"
-#include "ensembles/initial_conditions.hpp"
+#include "ensembles/kinds/box.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
 
 namespace qmaps {
 namespace {

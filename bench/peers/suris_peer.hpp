@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "../bench_maps.hpp"
-#include "ensembles/catalogue.hpp"
+#include "kernels/catalogue.hpp"
 
 namespace qmaps::peers {
 

@@ -1,0 +1,333 @@
+#include "core/io/h5.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <type_traits>
+
+#include "core/error.hpp"
+
+namespace qmaps::h5 {
+namespace {
+
+// HDF5 prints its error stack by default; qmaps reports errors itself.
+const bool quiet = [] {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  return true;
+}();
+
+Error failure(const std::string& what) { return Error(ExitCode::io, "HDF5: " + what); }
+
+hid_t checked(hid_t id, const std::string& what) {
+  if (id < 0) throw failure(what);
+  return id;
+}
+
+void checked(herr_t status, const std::string& what, int) {
+  if (status < 0) throw failure(what);
+}
+
+template <class T>
+void write_nd(hid_t parent, const std::string& where, const std::string& name, hid_t type,
+              std::span<const T> data, std::span<const hsize_t> dims) {
+  Handle space(checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+                       "dataspace"),
+               H5Sclose);
+  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT,
+                                H5P_DEFAULT),
+                     "cannot create dataset " + where + "/" + name),
+             H5Dclose);
+  if (!data.empty())
+    checked(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+            "cannot write dataset " + where + "/" + name, 0);
+}
+
+template <class T>
+void write_1d(hid_t parent, const std::string& where, const std::string& name, hid_t type,
+              std::span<const T> data) {
+  const hsize_t dims[1] = {data.size()};
+  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims));
+}
+
+template <class T>
+std::vector<T> read_1d(hid_t parent, const std::string& where, const std::string& name,
+                       hid_t type) {
+  Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT),
+                     "no dataset " + where + "/" + name),
+             H5Dclose);
+  Handle space(checked(H5Dget_space(set.id()), "dataspace of " + name), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id());  // every element, row-major
+  std::vector<T> out(static_cast<std::size_t>(n));
+  if (n > 0)
+    checked(H5Dread(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
+            "cannot read " + where + "/" + name, 0);
+  return out;
+}
+
+template <class T>
+hid_t native_type() {
+  if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
+  else return H5T_NATIVE_UINT8;
+}
+
+// The dataset `name` of `parent` with elements [first, first + count) selected in its file space,
+// and a memory space of count elements; the transfer `io` (H5Dwrite or H5Dread) runs on them.
+template <class Transfer>
+void transfer_part(hid_t parent, const std::string& where, const std::string& name,
+                   std::size_t first, std::size_t count, Transfer io) {
+  const std::string what = where + "/" + name;
+  Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), "no dataset " + what),
+             H5Dclose);
+  Handle file_space(checked(H5Dget_space(set.id()), "dataspace of " + what), H5Sclose);
+  const hsize_t start[1] = {first}, size[1] = {count};
+  if (H5Sget_simple_extent_ndims(file_space.id()) != 1 ||
+      first + count > static_cast<std::size_t>(H5Sget_simple_extent_npoints(file_space.id())))
+    throw failure("elements [" + std::to_string(first) + ", " + std::to_string(first + count) +
+                  ") are not in the one-dimensional dataset " + what);
+  if (count == 0) return;
+  checked(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+          "selection in " + what, 0);
+  Handle memory_space(checked(H5Screate_simple(1, size, nullptr), "dataspace"), H5Sclose);
+  checked(io(set.id(), memory_space.id(), file_space.id()), "cannot transfer " + what, 0);
+}
+
+void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* value) {
+  if (H5Aexists(obj, name.c_str()) > 0) H5Adelete(obj, name.c_str());
+  Handle a(checked(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT),
+                   "cannot create attribute " + name),
+           H5Aclose);
+  checked(H5Awrite(a.id(), type, value), "cannot write attribute " + name, 0);
+}
+
+Handle open_attr(hid_t obj, const std::string& where, const std::string& name) {
+  return Handle(checked(H5Aopen(obj, name.c_str(), H5P_DEFAULT),
+                        "no attribute '" + name + "' on " + where),
+                H5Aclose);
+}
+
+}  // namespace
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    reset();
+    id_ = o.id_;
+    close_ = o.close_;
+    o.id_ = H5I_INVALID_HID;
+  }
+  return *this;
+}
+
+void Handle::reset() {
+  if (id_ >= 0 && close_) close_(id_);
+  id_ = H5I_INVALID_HID;
+}
+
+Group Group::create_group(const std::string& name) const {
+  return Group(Handle(checked(H5Gcreate2(id(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT,
+                                         H5P_DEFAULT),
+                              "cannot create group " + path_ + "/" + name),
+                      H5Gclose),
+               path_ == "/" ? "/" + name : path_ + "/" + name);
+}
+
+Group Group::open_group(const std::string& name) const {
+  return Group(Handle(checked(H5Gopen2(id(), name.c_str(), H5P_DEFAULT),
+                              "no group " + path_ + "/" + name),
+                      H5Gclose),
+               path_ == "/" ? "/" + name : path_ + "/" + name);
+}
+
+bool Group::has(const std::string& name) const { return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0; }
+
+std::vector<std::string> Group::members() const {
+  std::vector<std::string> out;
+  H5Literate(
+      id(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5L_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+        return 0;
+      },
+      &out);
+  return out;
+}
+
+void Group::write(const std::string& name, std::span<const double> data) const {
+  write_1d(id(), path_, name, H5T_NATIVE_DOUBLE, data);
+}
+void Group::write(const std::string& name, std::span<const std::int64_t> data) const {
+  write_1d(id(), path_, name, H5T_NATIVE_INT64, data);
+}
+void Group::write(const std::string& name, std::span<const std::uint8_t> data) const {
+  write_1d(id(), path_, name, H5T_NATIVE_UINT8, data);
+}
+void Group::write(const std::string& name, std::span<const std::int64_t> data,
+                  std::span<const hsize_t> dims) const {
+  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims);
+}
+
+std::vector<hsize_t> Group::shape(const std::string& name) const {
+  Handle set(checked(H5Dopen2(id(), name.c_str(), H5P_DEFAULT), "no dataset " + path_ + "/" + name),
+             H5Dclose);
+  Handle space(checked(H5Dget_space(set.id()), "dataspace of " + name), H5Sclose);
+  std::vector<hsize_t> dims(static_cast<std::size_t>(H5Sget_simple_extent_ndims(space.id())));
+  H5Sget_simple_extent_dims(space.id(), dims.data(), nullptr);
+  return dims;
+}
+
+template <class T>
+void Group::create_column(const std::string& name, std::size_t n) const {
+  const hsize_t dims[1] = {n};
+  write_nd(id(), path_, name, native_type<T>(), std::span<const T>(),
+           std::span<const hsize_t>(dims));
+}
+
+template <class T>
+void Group::write_part(const std::string& name, std::size_t first, std::span<const T> data) const {
+  transfer_part(id(), path_, name, first, data.size(), [&](hid_t set, hid_t memory, hid_t file) {
+    return H5Dwrite(set, native_type<T>(), memory, file, H5P_DEFAULT, data.data());
+  });
+}
+
+template <class T>
+void Group::read_part(const std::string& name, std::size_t first, std::span<T> out) const {
+  transfer_part(id(), path_, name, first, out.size(), [&](hid_t set, hid_t memory, hid_t file) {
+    return H5Dread(set, native_type<T>(), memory, file, H5P_DEFAULT, out.data());
+  });
+}
+
+#define QMAPS_H5_COLUMN(T)                                                                  \
+  template void Group::create_column<T>(const std::string&, std::size_t) const;             \
+  template void Group::write_part<T>(const std::string&, std::size_t, std::span<const T>) const; \
+  template void Group::read_part<T>(const std::string&, std::size_t, std::span<T>) const;
+QMAPS_H5_COLUMN(double)
+QMAPS_H5_COLUMN(std::int64_t)
+QMAPS_H5_COLUMN(std::uint8_t)
+#undef QMAPS_H5_COLUMN
+
+std::vector<double> Group::read_doubles(const std::string& name) const {
+  return read_1d<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
+}
+std::vector<std::int64_t> Group::read_int64(const std::string& name) const {
+  return read_1d<std::int64_t>(id(), path_, name, H5T_NATIVE_INT64);
+}
+std::vector<std::uint8_t> Group::read_uint8(const std::string& name) const {
+  return read_1d<std::uint8_t>(id(), path_, name, H5T_NATIVE_UINT8);
+}
+
+void Group::attr(const std::string& name, const std::string& value) const {
+  Handle type(checked(H5Tcopy(H5T_C_S1), "string type"), H5Tclose);
+  H5Tset_size(type.id(), value.empty() ? 1 : value.size());
+  H5Tset_cset(type.id(), H5T_CSET_UTF8);
+  Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
+  write_attr(id(), name, type.id(), space.id(), value.empty() ? "" : value.data());
+}
+void Group::attr(const std::string& name, double value) const {
+  Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
+  write_attr(id(), name, H5T_NATIVE_DOUBLE, space.id(), &value);
+}
+void Group::attr(const std::string& name, std::int64_t value) const {
+  Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
+  write_attr(id(), name, H5T_NATIVE_INT64, space.id(), &value);
+}
+
+bool Group::has_attr(const std::string& name) const { return H5Aexists(id(), name.c_str()) > 0; }
+
+std::string Group::attr_string(const std::string& name) const {
+  Handle a = open_attr(id(), path_, name);
+  Handle type(checked(H5Aget_type(a.id()), "attribute type"), H5Tclose);
+  if (H5Tget_class(type.id()) != H5T_STRING) throw failure("attribute " + name + " is not a string");
+  if (H5Tis_variable_str(type.id()) > 0) {
+    char* text = nullptr;
+    Handle mem(checked(H5Tcopy(H5T_C_S1), "string type"), H5Tclose);
+    H5Tset_size(mem.id(), H5T_VARIABLE);
+    checked(H5Aread(a.id(), mem.id(), &text), "cannot read attribute " + name, 0);
+    std::string out = text ? text : "";
+    H5free_memory(text);
+    return out;
+  }
+  const std::size_t n = H5Tget_size(type.id());
+  std::string out(n, '\0');
+  checked(H5Aread(a.id(), type.id(), out.data()), "cannot read attribute " + name, 0);
+  out.resize(std::strlen(out.c_str()));
+  return out;
+}
+
+double Group::attr_double(const std::string& name) const {
+  Handle a = open_attr(id(), path_, name);
+  double v = 0;
+  checked(H5Aread(a.id(), H5T_NATIVE_DOUBLE, &v), "cannot read attribute " + name, 0);
+  return v;
+}
+
+std::int64_t Group::attr_int64(const std::string& name) const {
+  Handle a = open_attr(id(), path_, name);
+  std::int64_t v = 0;
+  checked(H5Aread(a.id(), H5T_NATIVE_INT64, &v), "cannot read attribute " + name, 0);
+  return v;
+}
+
+std::vector<std::string> Group::attr_names() const {
+  std::vector<std::string> out;
+  H5Aiterate2(
+      id(), H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5A_info_t*, void* data) -> herr_t {
+        static_cast<std::vector<std::string>*>(data)->emplace_back(name);
+        return 0;
+      },
+      &out);
+  return out;
+}
+
+File File::create(const std::string& path) {
+  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) throw Error(ExitCode::io, "cannot create output file '" + path + "'");
+  return File(Handle(id, H5Fclose), path);
+}
+
+File File::open_read(const std::string& path) {
+  if (access(path.c_str(), R_OK) != 0)
+    throw Error(ExitCode::io, "cannot read '" + path + "': " + std::strerror(errno));
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) throw Error(ExitCode::io, "'" + path + "' is not an HDF5 file");
+  return File(Handle(id, H5Fclose), path);
+}
+
+Group File::root() const {
+  return Group(Handle(checked(H5Gopen2(h_.id(), "/", H5P_DEFAULT), "root group of " + path_),
+                      H5Gclose),
+               "/");
+}
+
+AtomicFile::AtomicFile(std::string path)
+    : path_(std::move(path)), temporary_(path_ + ".tmp-" + std::to_string(getpid())) {
+  struct stat info;
+  if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+    throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
+}
+
+File AtomicFile::create_hdf5() const {
+  const hid_t id = H5Fcreate(temporary_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) {
+    const int err = errno;
+    throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
+                                  (err ? std::string(": ") + std::strerror(err) : std::string()));
+  }
+  return File(Handle(id, H5Fclose), temporary_);
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) std::remove(temporary_.c_str());
+}
+
+void AtomicFile::commit() {
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
+    throw Error(ExitCode::io, "cannot rename '" + temporary_ + "' to '" + path_ + "': " +
+                                  std::strerror(errno));
+  committed_ = true;
+}
+
+}  // namespace qmaps::h5

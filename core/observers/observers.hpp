@@ -1,0 +1,66 @@
+#pragma once
+// What a run measures while it advances, for the orbits that have not escaped:
+//  - densities: histograms of phase-space coordinates, sampled at step 0 and wherever the
+//    invariants are (multiples of `stride`, and the last step);
+//  - Poincaré sections: every step, an oriented crossing of the plane `coordinate = value`
+//    between consecutive iterates n and n + 1 records (orbit, n + 1, x, y): mode `iterate` the
+//    iterate after the crossing (a point of the orbit), mode `linear` the linear interpolation to
+//    the plane (a map has no flow between iterates: an interpolation, not a point of the orbit);
+//    at most `cap` points per orbit, while the section's density histogram counts every crossing.
+// Each thread fills its own empty_copy(); merge() adds counts and concatenates points, and
+// finish() sorts the points by (orbit, step): the result does not depend on threads.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/observers/histogram.hpp"
+
+namespace qmaps {
+
+// The coordinates of node n: q1, q2, p1, p2, and t for a map whose time differs per orbit.
+enum class Coordinate { q1 = 0, q2 = 1, p1 = 2, p2 = 3, t = 4 };
+Coordinate parse_coordinate(std::string_view name, bool time_per_orbit);  // throws usage_error
+std::string_view coordinate_name(Coordinate c);
+inline bool is_momentum(Coordinate c) { return c == Coordinate::p1 || c == Coordinate::p2; }
+
+struct Density {
+  Histogram histogram;
+  std::vector<Coordinate> coordinates;  // one per axis
+};
+
+struct SectionPoint {
+  std::int64_t orbit, step;
+  double x, y;
+};
+
+struct Section {
+  std::string name;
+  Coordinate plane = Coordinate::q1;
+  double value = 0;
+  int direction = 1;    // +1: from below to at-or-above; −1: from above to at-or-below; 0: both
+  bool linear = false;  // mode: linear interpolation to the plane, else the iterate after it
+  Coordinate x = Coordinate::q2, y = Coordinate::p2;
+  std::int64_t cap = 0;
+  Histogram density;                   // over (x, y): every crossing
+  std::vector<SectionPoint> points;    // at most `cap` per orbit
+  std::shared_ptr<std::vector<std::int64_t>> kept;  // points kept per orbit (shared by threads;
+                                                    // an orbit belongs to one thread)
+  // Records a crossing of `orbit` at step n + 1, from the coordinates of nodes n and n + 1.
+  void record(std::int64_t orbit, std::int64_t step, const double* before, const double* after);
+};
+
+struct Observers {
+  std::vector<Density> densities;
+  std::vector<Section> sections;
+
+  bool empty() const { return densities.empty() && sections.empty(); }
+  bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
+  bool sections_need_momentum() const;
+  Observers empty_copy() const;
+  void merge(const Observers& partial);
+  void finish();  // flushes the histograms' pending tallies, sorts section points by (orbit, step)
+};
+
+}  // namespace qmaps

@@ -1,0 +1,322 @@
+#include "ensembles/config/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include <toml++/toml.h>
+
+#include "core/error.hpp"
+
+namespace qmaps {
+namespace {
+
+std::string dotted(std::string_view section, std::string_view key) {
+  return std::string(section) + "." + std::string(key);
+}
+
+std::string type_name(const toml::node& n) {
+  if (n.is_string()) return "a string";
+  if (n.is_integer()) return "an integer";
+  if (n.is_floating_point()) return "a number";
+  if (n.is_boolean()) return "a boolean";
+  if (n.is_array()) return "an array";
+  if (n.is_table()) return "a table";
+  return "a value";
+}
+
+}  // namespace
+
+// The parsed TOML, and the look-ups that mark keys used.
+struct Config::Document {
+  toml::table table;
+  const toml::table* section_table(std::string_view section) const;
+  const toml::node* find(const Config& c, std::string_view section, std::string_view key) const;
+  const toml::node& node(const Config& c, std::string_view section, std::string_view key) const;
+};
+
+Config::Config() : doc_(std::make_unique<Document>()) {}
+Config::~Config() = default;
+Config::Config(Config&&) noexcept = default;
+Config& Config::operator=(Config&&) noexcept = default;
+Config::Config(const Config& other)
+    : doc_(std::make_unique<Document>(*other.doc_)),
+      text_(other.text_),
+      source_(other.source_),
+      overridden_(other.overridden_),
+      used_(other.used_),
+      used_sections_(other.used_sections_) {}
+
+// "name" is a [section]; "name[i]" the i-th table of an array of tables [[name]].
+const toml::table* Config::Document::section_table(std::string_view section) const {
+  const auto open = section.find('[');
+  if (open == std::string_view::npos) return table.get_as<toml::table>(section);
+  const auto* array = table.get_as<toml::array>(section.substr(0, open));
+  const auto index = std::stoul(std::string(section.substr(open + 1)));
+  return array && index < array->size() ? (*array)[index].as_table() : nullptr;
+}
+
+std::size_t Config::entries(std::string_view array) const {
+  used_sections_.insert(std::string(array));
+  const auto* a = doc_->table.get_as<toml::array>(array);
+  return a ? a->size() : 0;
+}
+
+Config Config::parse(std::string_view text, std::string source) {
+  Config c;
+  c.text_ = std::string(text);
+  c.source_ = std::move(source);
+  try {
+    c.doc_->table = toml::parse(c.text_, c.source_);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << c.source_ << ':' << e.source().begin.line << ':' << e.source().begin.column
+        << ": malformed TOML: " << e.description();
+    throw usage_error(msg.str());
+  }
+  for (const auto& [name, value] : c.doc_->table)
+    if (!value.is_table() && !value.is_array_of_tables())
+      throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": '" +
+                        std::string(name.str()) + "' must be a [section] or [[table array]]");
+  return c;
+}
+
+Config Config::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ExitCode::io, "cannot read config file '" + path + "'");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse(text.str(), path);
+}
+
+void Config::set(std::string_view assignment) {
+  const auto eq = assignment.find('=');
+  const auto dot = assignment.find('.');
+  if (eq == std::string_view::npos || dot == std::string_view::npos || dot > eq || dot == 0 ||
+      dot + 1 == eq)
+    throw usage_error("--set expects section.key=value, got '" + std::string(assignment) + "'");
+  const std::string section(assignment.substr(0, dot));
+  const std::string key(assignment.substr(dot + 1, eq - dot - 1));
+  const std::string value(assignment.substr(eq + 1));
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + value);
+  } catch (const toml::parse_error&) {
+    parsed = toml::table{{"v", value}};
+  }
+  toml::table* target = nullptr;
+  if (const auto open = section.find('['); open != std::string::npos) {  // "name[i]": [[name]] i
+    const std::string name = section.substr(0, open);
+    auto* array = doc_->table[name].as_array();
+    const std::string index_text = section.substr(open + 1, section.size() - open - 2);
+    std::size_t used = 0;
+    std::size_t index = 0;
+    try {
+      index = std::stoul(index_text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (section.back() != ']' || used == 0 || used != index_text.size())
+      throw usage_error("--set " + section + "." + key + ": expected " + name + "[index]");
+    if (!array || !array->is_array_of_tables() || index >= array->size())
+      throw usage_error("--set " + section + "." + key + ": there is no [[" + name + "]] number " +
+                        index_text + " (tables are counted from 0; the config has " +
+                        std::to_string(array ? array->size() : 0) + ")");
+    target = (*array)[index].as_table();
+  } else {
+    target = doc_->table[section].as_table();
+  }
+  if (!target) {
+    if (doc_->table.contains(section))
+      throw usage_error("--set " + section + "." + key + ": '" + section +
+                        "' is an array of tables [[" + section + "]]: name one as " + section +
+                        "[i]." + key + " (i from 0)");
+    doc_->table.insert(section, toml::table{});
+    target = doc_->table[section].as_table();
+  }
+  target->insert_or_assign(key, std::move(*parsed.get("v")));
+  overridden_.insert(dotted(section, key));
+}
+
+const toml::node* Config::Document::find(const Config& c, std::string_view section,
+                                         std::string_view key) const {
+  c.used_sections_.insert(std::string(section.substr(0, section.find('['))));
+  const auto* s = section_table(section);
+  if (!s) return nullptr;
+  const auto* n = s->get(key);
+  if (n) c.used_.insert(dotted(section, key));
+  return n;
+}
+
+const toml::node& Config::Document::node(const Config& c, std::string_view section,
+                                         std::string_view key) const {
+  const auto* n = find(c, section, key);
+  if (!n)
+    throw usage_error(c.source_ + ": missing key '" + std::string(key) + "' in [" +
+                      std::string(section) + "]");
+  return *n;
+}
+
+bool Config::has(std::string_view section, std::string_view key) const {
+  return doc_->find(*this, section, key) != nullptr;
+}
+
+std::string Config::where(std::string_view section, std::string_view key) const {
+  const std::string name = dotted(section, key);
+  if (overridden_.count(name)) return "--set " + name;
+  const auto* s = doc_->section_table(section);
+  const auto* n = s ? s->get(key) : nullptr;
+  const auto line = n ? n->source().begin.line : (s ? s->source().begin.line : 0);
+  return source_ + ":" + std::to_string(line) + ": [" + std::string(section) + "] " +
+         std::string(key);
+}
+
+std::string Config::where(std::string_view section) const {
+  const auto* s = doc_->section_table(section);
+  return source_ + ":" + std::to_string(s ? s->source().begin.line : 0) + ": [" +
+         std::string(section) + "]";
+}
+
+double Config::number(std::string_view section, std::string_view key) const {
+  const auto& n = doc_->node(*this, section, key);
+  const auto v = n.value<double>();
+  if (!v || !(n.is_number()))
+    throw usage_error(where(section, key) + " must be a number, not " + type_name(n));
+  if (!std::isfinite(*v)) throw usage_error(where(section, key) + " must be finite");
+  return *v;
+}
+
+double Config::number_or(std::string_view section, std::string_view key, double fallback) const {
+  return has(section, key) ? number(section, key) : fallback;
+}
+
+long long Config::integer(std::string_view section, std::string_view key) const {
+  const auto& n = doc_->node(*this, section, key);
+  if (!n.is_integer())
+    throw usage_error(where(section, key) + " must be an integer, not " + type_name(n));
+  return *n.value<long long>();
+}
+
+long long Config::integer_or(std::string_view section, std::string_view key,
+                             long long fallback) const {
+  return has(section, key) ? integer(section, key) : fallback;
+}
+
+bool Config::boolean_or(std::string_view section, std::string_view key, bool fallback) const {
+  if (!has(section, key)) return fallback;
+  const auto& n = doc_->node(*this, section, key);
+  if (!n.is_boolean())
+    throw usage_error(where(section, key) + " must be true or false, not " + type_name(n));
+  return *n.value<bool>();
+}
+
+std::string Config::string(std::string_view section, std::string_view key) const {
+  const auto& n = doc_->node(*this, section, key);
+  if (!n.is_string())
+    throw usage_error(where(section, key) + " must be a string, not " + type_name(n));
+  return *n.value<std::string>();
+}
+
+std::string Config::string_or(std::string_view section, std::string_view key,
+                              std::string fallback) const {
+  return has(section, key) ? string(section, key) : fallback;
+}
+
+std::array<double, 2> Config::range(std::string_view section, std::string_view key) const {
+  const auto& n = doc_->node(*this, section, key);
+  if (n.is_number()) {
+    const double x = number(section, key);
+    return {x, x};
+  }
+  const auto* a = n.as_array();
+  if (!a || a->size() != 2 || !(*a)[0].is_number() || !(*a)[1].is_number())
+    throw usage_error(where(section, key) + " must be a range [lo, hi] or a number");
+  const double lo = *(*a)[0].value<double>(), hi = *(*a)[1].value<double>();
+  if (!std::isfinite(lo) || !std::isfinite(hi))
+    throw usage_error(where(section, key) + " must have finite ends");
+  if (lo > hi)
+    throw usage_error(where(section, key) + " is an empty range: lo > hi (" +
+                      number_text(lo) + " > " + number_text(hi) + ")");
+  return {lo, hi};
+}
+
+std::vector<double> Config::numbers(std::string_view section, std::string_view key,
+                                    std::size_t count) const {
+  const auto* a = doc_->node(*this, section, key).as_array();
+  std::vector<double> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_number() && std::isfinite(*item.value<double>()))
+        out.push_back(*item.value<double>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " finite numbers");
+  return out;
+}
+
+std::vector<std::string> Config::strings(std::string_view section, std::string_view key,
+                                         std::size_t count) const {
+  const auto* a = doc_->node(*this, section, key).as_array();
+  std::vector<std::string> out;
+  if (a && a->size() == count)
+    for (const auto& item : *a)
+      if (item.is_string()) out.push_back(*item.value<std::string>());
+  if (out.size() != count)
+    throw usage_error(where(section, key) + " must be an array of " + std::to_string(count) +
+                      " strings");
+  return out;
+}
+
+std::vector<std::int64_t> Config::range_or_integer(std::string_view section,
+                                                   std::string_view key) const {
+  const auto& n = doc_->node(*this, section, key);
+  if (n.is_integer()) return {*n.value<std::int64_t>()};
+  std::vector<std::int64_t> out;
+  if (const auto* a = n.as_array())
+    for (const auto& item : *a) {
+      if (!item.is_integer())
+        throw usage_error(where(section, key) + " must hold integers, not " + type_name(item));
+      out.push_back(*item.value<std::int64_t>());
+    }
+  else
+    throw usage_error(where(section, key) + " must be an integer or an array of integers");
+  return out;
+}
+
+std::vector<std::string> Config::keys(std::string_view section) const {
+  std::vector<std::string> out;
+  used_sections_.insert(std::string(section.substr(0, section.find('['))));
+  if (const auto* s = doc_->section_table(section))
+    for (const auto& [k, v] : *s) {
+      out.emplace_back(k.str());
+      used_.insert(dotted(section, k.str()));
+    }
+  return out;
+}
+
+void Config::reject_unknown() const {
+  for (const auto& [section, value] : doc_->table) {
+    const std::string name(section.str());
+    if (!used_sections_.count(name))
+      throw usage_error(source_ + ":" + std::to_string(value.source().begin.line) +
+                        ": unknown section [" + name + "]");
+    const auto check = [&](const toml::table& t, const std::string& path) {
+      for (const auto& [key, v] : t)
+        if (!used_.count(dotted(path, key.str())))
+          throw usage_error(where(path, key.str()) + ": unknown key");
+    };
+    if (const auto* array = value.as_array())
+      for (std::size_t i = 0; i < array->size(); ++i)
+        check(*(*array)[i].as_table(), name + "[" + std::to_string(i) + "]");
+    else
+      check(*value.as_table(), name);
+  }
+}
+
+std::string Config::resolved() const {
+  std::ostringstream out;
+  out << toml::toml_formatter(doc_->table);
+  return out.str();
+}
+
+}  // namespace qmaps

@@ -1,0 +1,124 @@
+#include "ensembles/config/observer_config.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "core/error.hpp"
+
+namespace qmaps {
+namespace {
+
+// An axis over [lo, hi) with `bins` bins: lo < hi and bins > 0.
+Axis axis(const Config& config, const std::string& section, const std::string& coordinate,
+          const std::string& range_key, std::int64_t bins) {
+  const auto [lo, hi] = config.range(section, range_key);
+  if (!(lo < hi))
+    throw usage_error(config.where(section, range_key) + " is an empty range: it needs lo < hi");
+  return {coordinate, lo, hi, bins};
+}
+
+// `bins`: n (every axis) or [nx, ny]; each > 0.
+std::vector<std::int64_t> bins_of(const Config& config, const std::string& section,
+                                  std::size_t axes, std::int64_t fallback) {
+  std::vector<std::int64_t> bins;
+  if (!config.has(section, "bins")) {
+    bins.assign(axes, fallback);
+  } else if (const auto r = config.range_or_integer(section, "bins"); r.size() == 1) {
+    bins.assign(axes, r[0]);
+  } else if (r.size() == axes) {
+    bins = r;
+  } else {
+    throw usage_error(config.where(section, "bins") + " must be a number or [" +
+                      (axes == 1 ? "n" : "nx, ny") + "]");
+  }
+  for (auto b : bins)
+    if (b <= 0) throw usage_error(config.where(section, "bins") + " must be > 0");
+  return bins;
+}
+
+Coordinate coordinate(const Config& config, const std::string& section, const std::string& key,
+                      const Model& model) {
+  try {
+    return parse_coordinate(config.string(section, key), model.time_per_orbit());
+  } catch (const Error& e) {
+    throw usage_error(config.where(section, key) + ": " + e.what());
+  }
+}
+
+std::string unique_name(const Config& config, const std::string& section,
+                        std::set<std::string>& names) {
+  const std::string name = config.string(section, "name");
+  if (name.empty() || name.find('/') != std::string::npos || name.find('.') != std::string::npos)
+    throw usage_error(config.where(section, "name") + " must be non-empty, without '/' or '.'");
+  if (!names.insert(name).second)
+    throw usage_error(config.where(section, "name") + ": '" + name + "' is used twice");
+  return name;
+}
+
+}  // namespace
+
+Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits) {
+  Observers o;
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < config.entries("histogram"); ++i) {
+    const std::string s = "histogram[" + std::to_string(i) + "]";
+    const std::string name = unique_name(config, s, names);
+    std::vector<Coordinate> coords = {coordinate(config, s, "x", model)};
+    if (config.has(s, "y")) coords.push_back(coordinate(config, s, "y", model));
+    const auto bins = bins_of(config, s, coords.size(), 64);
+    std::vector<Axis> axes = {axis(config, s, std::string(coordinate_name(coords[0])), "x_range", bins[0])};
+    if (coords.size() == 2)
+      axes.push_back(axis(config, s, std::string(coordinate_name(coords[1])), "y_range", bins[1]));
+    o.densities.push_back({Histogram(name, axes), coords});
+  }
+  for (std::size_t i = 0; i < config.entries("section"); ++i) {
+    const std::string s = "section[" + std::to_string(i) + "]";
+    Section section;
+    section.name = unique_name(config, s, names);
+    section.plane = coordinate(config, s, "plane", model);
+    if (section.plane == Coordinate::t)
+      throw usage_error(config.where(s, "plane") + ": a section plane must be q1, q2, p1 or p2");
+    section.value = config.number_or(s, "value", 0.0);
+    const std::string direction = config.string_or(s, "direction", "+");
+    if (direction != "+" && direction != "-" && direction != "both")
+      throw usage_error(config.where(s, "direction") + " must be \"+\", \"-\" or \"both\"");
+    section.direction = direction == "+" ? 1 : direction == "-" ? -1 : 0;
+    const std::string mode = config.string_or(s, "mode", "iterate");
+    if (mode != "iterate" && mode != "linear")
+      throw usage_error(config.where(s, "mode") + " must be \"iterate\" or \"linear\"");
+    section.linear = mode == "linear";
+    section.x = coordinate(config, s, "x", model);
+    section.y = coordinate(config, s, "y", model);
+    section.cap = config.integer_or(s, "cap", 100);
+    if (section.cap < 0) throw usage_error(config.where(s, "cap") + " must be >= 0");
+    const auto bins = bins_of(config, s, 2, 64);
+    section.density = Histogram(section.name, {axis(config, s, std::string(coordinate_name(section.x)), "x_range", bins[0]),
+                                               axis(config, s, std::string(coordinate_name(section.y)), "y_range", bins[1])});
+    section.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+    o.sections.push_back(std::move(section));
+  }
+  return o;
+}
+
+std::optional<InvariantImage> invariant_image_from_config(const Config& config,
+                                                          const Model& model) {
+  const std::string s = "invariant_image";
+  if (!config.has(s, "x") && !config.has(s, "y")) return std::nullopt;
+  const auto& names = model.invariant_names();
+  const auto invariant = [&](const std::string& key) {
+    const std::string name = config.string(s, key);
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      std::string known;
+      for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+      throw usage_error(config.where(s, key) + ": '" + name + "' is not an invariant of map '" +
+                        std::string(model.name()) + "' (" + known + ")");
+    }
+    return name;
+  };
+  const std::string x = invariant("x"), y = invariant("y");
+  const auto bins = bins_of(config, s, 2, 128);
+  return InvariantImage{Histogram("invariant_image", {axis(config, s, x, "x_range", bins[0]),
+                                                     axis(config, s, y, "y_range", bins[1])})};
+}
+
+}  // namespace qmaps

@@ -1,0 +1,22 @@
+#pragma once
+// The observers of a run from its configuration: [[histogram]], [[section]] and
+// [invariant_image] (docs/configuration in README.md); every error names the key and its line.
+#include <optional>
+#include <string>
+
+#include "ensembles/config/config.hpp"
+#include "core/observers/histogram.hpp"
+#include "core/model.hpp"
+#include "core/observers/observers.hpp"
+
+namespace qmaps {
+
+// The 2D histogram of two invariants' initial values over the ensemble.
+struct InvariantImage {
+  Histogram histogram;  // axes' coordinates are the invariants' names
+};
+
+Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits);
+std::optional<InvariantImage> invariant_image_from_config(const Config& config, const Model& model);
+
+}  // namespace qmaps

@@ -1,0 +1,102 @@
+#include "ensembles/io/checkpoint.hpp"
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+
+namespace qmaps {
+namespace {
+
+Error corrupt(const std::string& path, const std::string& what) {
+  return Error(ExitCode::io, "'" + path + "' is not a checkpoint qmaps can resume: " + what);
+}
+
+// Reads dataset `name` of `g`, which must hold exactly out.size() elements, into `out`.
+template <class T>
+void read_column(const h5::Group& g, const std::string& name, std::span<T> out) {
+  if (g.shape(name) != std::vector<hsize_t>{out.size()})
+    throw Error(ExitCode::io, "HDF5: dataset " + g.path() + "/" + name + " does not hold " +
+                                  std::to_string(out.size()) + " elements");
+  g.read_part<T>(name, 0, out);
+}
+
+void restore_histogram(const h5::Group& g, const std::string& counts, Histogram& h) {
+  h.restore(g.read_int64(counts), g.attr_int64("underflow"), g.attr_int64("overflow"));
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, RunRecord record, const h5::Group* initial) {
+  h5::AtomicFile out(path);
+  auto file = out.create_hdf5();
+  const auto root = file.root();
+  record.per_orbit = true;
+  write_run(root, record);
+  root.attr("checkpoint_version", checkpoint_version);
+  if (initial) copy_phase(*initial, root.create_group("initial"), record.ensemble.orbits);
+  if (record.observers)
+    for (const auto& s : record.observers->sections)
+      root.open_group("sections").open_group(s.name).write("kept", *s.kept);
+  file.close();
+  out.commit();
+}
+
+h5::File open_checkpoint(const std::string& path) {
+  h5::File file = h5::File::open_read(path);
+  const auto root = file.root();
+  if (!root.has_attr("checkpoint_version"))
+    throw corrupt(path, "it has no attribute checkpoint_version (a run's final file is no checkpoint)");
+  const auto version = root.attr_int64("checkpoint_version");
+  const auto schema = root.has_attr("schema_version") ? root.attr_int64("schema_version") : -1;
+  if (version != checkpoint_version || schema != schema_version)
+    throw corrupt(path, "it has checkpoint version " + std::to_string(version) + " and schema " +
+                            std::to_string(schema) + " (written by qmaps " +
+                            (root.has_attr("qmaps_version") ? root.attr_string("qmaps_version")
+                                                            : std::string("?")) +
+                            "); qmaps " + build::version + " resumes checkpoint version " +
+                            std::to_string(checkpoint_version) + ", schema " +
+                            std::to_string(schema_version));
+  return file;
+}
+
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e) {
+  const std::size_t n = e.orbits;
+  const auto state = root.open_group("final").open_group("state");
+  const auto names = model.state_names();
+  for (std::size_t k = 0; k < names.size(); ++k)
+    read_column(state, std::string(names[k]), e.state[k].span().first(n));
+  e.step = state.attr_int64("step");
+  const auto escape = root.open_group("escape");
+  read_column(escape, "step", e.escape_step.span().first(n));
+  read_column(escape, "reason", e.escape_reason.span().first(n));
+  const auto invariants = root.open_group("invariants");
+  const auto& inv_names = model.invariant_names();
+  for (std::size_t k = 0; k < inv_names.size(); ++k) {
+    const auto g = invariants.open_group(inv_names[k]);
+    read_column(g, "initial", e.invariant_initial[k].span().first(n));
+    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().first(n));
+  }
+  e.fill_padding();
+}
+
+void restore_observers(const h5::Group& root, Observers& o) {
+  if (!o.densities.empty()) {
+    const auto histograms = root.open_group("histograms");
+    for (auto& d : o.densities)
+      restore_histogram(histograms.open_group(d.histogram.name()), "counts", d.histogram);
+  }
+  if (o.sections.empty()) return;
+  const auto sections = root.open_group("sections");
+  for (auto& s : o.sections) {
+    const auto g = sections.open_group(s.name);
+    restore_histogram(g, "density", s.density);
+    const auto orbit = g.read_int64("orbit"), step = g.read_int64("step");
+    const auto x = g.read_doubles("x"), y = g.read_doubles("y");
+    if (step.size() != orbit.size() || x.size() != orbit.size() || y.size() != orbit.size())
+      throw Error(ExitCode::io, "HDF5: the datasets of " + g.path() + " differ in length");
+    s.points.clear();
+    for (std::size_t i = 0; i < orbit.size(); ++i) s.points.push_back({orbit[i], step[i], x[i], y[i]});
+    read_column(g, "kept", std::span<std::int64_t>(*s.kept));
+  }
+}
+
+}  // namespace qmaps

@@ -1,0 +1,32 @@
+#pragma once
+// A run's checkpoint, "<output>.ckpt" (docs/hdf5-schema.md): the file of the run so far, as
+// write_run writes it with every per-orbit dataset (so the ensemble's state, escapes, invariant
+// tracking and the observers' histograms and section points), plus the run's /initial points and
+// the sections' per-orbit kept counts. Resuming reads the state itself, never the ensemble's
+// generator, and goes on exactly where the run stopped.
+#include <cstdint>
+#include <string>
+
+#include "core/ensemble.hpp"
+#include "core/io/h5.hpp"
+#include "core/model.hpp"
+#include "core/observers/observers.hpp"
+#include "ensembles/io/output.hpp"
+
+namespace qmaps {
+
+inline constexpr std::int64_t checkpoint_version = 1;
+inline constexpr const char* checkpoint_suffix = ".ckpt";
+
+// Writes the checkpoint atomically (a temporary renamed to `path`). `initial`, when not null, is
+// the run's /initial group, copied into the checkpoint.
+void write_checkpoint(const std::string& path, RunRecord record, const h5::Group* initial);
+
+// The checkpoint at `path`, opened for reading once it is known to be one this qmaps can resume.
+h5::File open_checkpoint(const std::string& path);
+// Fills `e` (laid out for the checkpoint's map and orbits) with the checkpoint's state.
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e);
+// Sets the counts and points of `o` (built from the checkpoint's configuration) to the checkpoint's.
+void restore_observers(const h5::Group& root, Observers& o);
+
+}  // namespace qmaps

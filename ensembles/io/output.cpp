@@ -1,0 +1,256 @@
+#include "ensembles/io/output.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <vector>
+
+#include "core/version.hpp"
+
+namespace qmaps {
+namespace {
+
+struct Column {
+  const h5::Group& group;
+  std::string name;
+};
+
+// Datasets of n doubles, computed orbits_per_part orbits at a time: fill(first, count, values)
+// sets values[k][0, count) of column k for orbits [first, first + count).
+template <class Fill>
+void write_columns(const std::vector<Column>& columns, std::size_t n, Fill fill) {
+  for (const auto& c : columns) c.group.create_column<double>(c.name, n);
+  std::vector<std::vector<double>> values(columns.size(),
+                                          std::vector<double>(std::min(n, orbits_per_part)));
+  for (std::size_t first = 0; first < n; first += orbits_per_part) {
+    const std::size_t count = std::min(orbits_per_part, n - first);
+    fill(first, count, values);
+    for (std::size_t k = 0; k < columns.size(); ++k)
+      columns[k].group.write_part<double>(columns[k].name, first,
+                                          std::span<const double>(values[k]).first(count));
+  }
+}
+
+// counts (shape bins, or bins × bins), edges per axis, and the attributes of a histogram.
+void write_histogram(const h5::Group& g, const Histogram& h, const std::string& counts_name) {
+  std::vector<hsize_t> dims;
+  for (const Axis& a : h.axes()) dims.push_back(static_cast<hsize_t>(a.bins));
+  g.write(counts_name, std::span<const std::int64_t>(h.counts()), dims);
+  const char* edge_names[2] = {"x_edges", "y_edges"};
+  const char* coordinate_names[2] = {"x", "y"};
+  for (std::size_t k = 0; k < h.axes().size(); ++k) {
+    g.write(edge_names[k], h.axes()[k].edges());
+    g.attr(coordinate_names[k], h.axes()[k].coordinate);
+  }
+  g.attr("underflow", h.underflow());
+  g.attr("overflow", h.overflow());
+  g.attr("samples", h.samples());
+}
+
+void write_observers(const h5::Group& root, const Observers& o, long long stride) {
+  if (!o.densities.empty()) {
+    const auto histograms = root.create_group("histograms");
+    for (const auto& d : o.densities) {
+      const auto g = histograms.create_group(d.histogram.name());
+      write_histogram(g, d.histogram, "counts");
+      g.attr("stride", static_cast<std::int64_t>(stride));
+    }
+  }
+  if (o.sections.empty()) return;
+  const auto sections = root.create_group("sections");
+  for (const auto& s : o.sections) {
+    const auto g = sections.create_group(s.name);
+    std::vector<std::int64_t> orbit, step;
+    std::vector<double> x, y;
+    for (const auto& p : s.points) {
+      orbit.push_back(p.orbit);
+      step.push_back(p.step);
+      x.push_back(p.x);
+      y.push_back(p.y);
+    }
+    g.write("orbit", orbit);
+    g.write("step", step);
+    g.write("x", x);
+    g.write("y", y);
+    write_histogram(g, s.density, "density");
+    g.attr("plane", std::string(coordinate_name(s.plane)));
+    g.attr("value", s.value);
+    g.attr("direction", std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
+    g.attr("mode", std::string(s.linear ? "linear" : "iterate"));
+    g.attr("cap", s.cap);
+    g.attr("crossings", s.density.samples());
+  }
+}
+
+}  // namespace
+
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
+  DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
+  for (std::size_t i = 0; i < e.orbits; ++i) {
+    const double drift = e.invariant_max_drift[k][i];
+    if (drift == 0) {
+      ++d.zero;
+      continue;
+    }
+    const double x = std::log10(drift / std::fabs(e.invariant_initial[k][i]));
+    d.histogram.add(&x);
+  }
+  return d;
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+std::string session_line(long long first, long long last, const Execution& x,
+                         const std::string& started, const std::string& finished,
+                         const std::string& command_line) {
+  return "steps " + std::to_string(first) + "-" + std::to_string(last) + ", " +
+         std::string(isa_name(x.isa)) + ", " + std::to_string(x.threads) + " thread" +
+         (x.threads == 1 ? "" : "s") + ", " + started + " to " + finished + ": " + command_line +
+         "\n";
+}
+
+void create_phase(const h5::Group& g, std::size_t n) {
+  for (const auto name : phase_names) g.create_column<double>(std::string(name), n);
+}
+
+void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points) {
+  std::vector<double> column(points.size());
+  for (int k = 0; k < 4; ++k) {
+    for (std::size_t i = 0; i < points.size(); ++i) column[i] = points[i].*phase_members[k];
+    g.write_part<double>(std::string(phase_names[k]), first, column);
+  }
+}
+
+void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points) {
+  std::vector<double> column(points.size());
+  for (int k = 0; k < 4; ++k) {
+    g.read_part<double>(std::string(phase_names[k]), first, column);
+    for (std::size_t i = 0; i < points.size(); ++i) points[i].*phase_members[k] = column[i];
+  }
+}
+
+void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n) {
+  create_phase(to, n);
+  std::vector<Phase> part(std::min(n, orbits_per_part));
+  for (std::size_t first = 0; first < n; first += orbits_per_part) {
+    const auto points = std::span<Phase>(part).first(std::min(orbits_per_part, n - first));
+    read_phase_part(from, first, points);
+    write_phase_part(to, first, points);
+  }
+}
+
+void write_run(const h5::Group& root, const RunRecord& run) {
+  const Model& model = run.model;
+  const Ensemble& e = run.ensemble;
+  const std::size_t n = e.orbits;
+
+  root.attr("schema_version", schema_version);
+  root.attr("qmaps_version", build::version);
+  root.attr("git_commit", build::commit);
+  root.attr("compiler", build::compiler);
+  root.attr("compiler_flags", build::engine_flags);
+  root.attr("kernel_flags", build::kernel_flags);
+  root.attr("map", std::string(model.name()));
+  const auto specs = model.param_specs();
+  const auto values = model.param_values();
+  for (std::size_t k = 0; k < specs.size(); ++k)
+    root.attr("param." + std::string(specs[k].name), values[k]);
+  root.attr("steps", static_cast<std::int64_t>(run.plan.total));
+  if (!model.time_per_orbit()) root.attr("time", model.time(e, 0));
+  root.attr("orbits", static_cast<std::int64_t>(n));
+  root.attr("ensemble", run.ensemble_kind);
+  root.attr("ensemble_description", run.ensemble_description);
+  root.attr("rejected", static_cast<std::int64_t>(run.rejected));
+  root.attr("seed", static_cast<std::int64_t>(run.seed));
+  root.attr("start", std::string(start_name(run.start)));
+  root.attr("stride", static_cast<std::int64_t>(run.plan.stride));
+  root.attr("escape_bound", run.plan.escape_bound);
+  root.attr("escaped", static_cast<std::int64_t>(e.escaped()));
+  root.attr("per_orbit", static_cast<std::int64_t>(run.per_orbit));
+  root.attr("isa", std::string(isa_name(run.execution.isa)));
+  root.attr("threads", static_cast<std::int64_t>(run.execution.threads));
+  root.attr("chains", static_cast<std::int64_t>(run.execution.chains));
+  root.attr("config", run.config_text);
+  root.attr("config_resolved", run.config_resolved);
+  root.attr("command_line", run.command_line);
+  root.attr("started", run.started);
+  root.attr("finished", run.finished);
+  root.attr("sessions", run.sessions);
+
+  const auto& inv_names = model.invariant_names();
+  if (run.per_orbit) {
+    const auto final_group = root.create_group("final");
+    write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
+                   {final_group, "p2"}, {final_group, "t"}},
+                  n, [&](std::size_t first, std::size_t count, auto& values) {
+                    for (std::size_t i = 0; i < count; ++i) {
+                      const Phase p = model.phase(e, first + i);
+                      for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
+                      values[4][i] = model.time(e, first + i);
+                    }
+                  });
+    const auto state = final_group.create_group("state");
+    state.attr("step", static_cast<std::int64_t>(e.step));
+    const auto names = model.state_names();
+    for (std::size_t k = 0; k < names.size(); ++k)
+      state.write(std::string(names[k]), e.state[k].span().first(n));
+  }
+
+  const auto invariants = root.create_group("invariants");
+  std::vector<h5::Group> groups;
+  for (const auto& name : inv_names) groups.push_back(invariants.create_group(name));
+  if (run.per_orbit) {
+    std::vector<Column> finals;
+    for (std::size_t k = 0; k < inv_names.size(); ++k) {
+      groups[k].write("initial", e.invariant_initial[k].span().first(n));
+      finals.push_back({groups[k], "final"});
+    }
+    write_columns(finals, n, [&](std::size_t first, std::size_t count, auto& values) {
+      for (std::size_t i = 0; i < count; ++i) {
+        const auto v = model.invariants(e, first + i);
+        for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
+      }
+    });
+    for (std::size_t k = 0; k < inv_names.size(); ++k)
+      groups[k].write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
+  }
+  for (std::size_t k = 0; k < inv_names.size(); ++k) {
+    const DriftHistogram drift = drift_histogram(e, k);
+    const auto dg = groups[k].create_group("drift_histogram");
+    write_histogram(dg, drift.histogram, "counts");
+    dg.attr("zero", drift.zero);
+  }
+  if (run.image) {
+    Histogram image = run.image->histogram;
+    std::size_t ix = 0, iy = 0;
+    for (std::size_t k = 0; k < inv_names.size(); ++k) {
+      if (inv_names[k] == image.axes()[0].coordinate) ix = k;
+      if (inv_names[k] == image.axes()[1].coordinate) iy = k;
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v[2] = {e.invariant_initial[ix][i], e.invariant_initial[iy][i]};
+      image.add(v);
+    }
+    write_histogram(invariants.create_group("image"), image, "counts");
+  }
+  if (run.observers) write_observers(root, *run.observers, run.plan.stride);
+
+  if (!run.per_orbit) return;
+  const auto escape = root.create_group("escape");
+  escape.write("step", e.escape_step.span().first(n));
+  escape.write("reason", e.escape_reason.span().first(n));
+  std::string codes;
+  for (int k = 0; k <= static_cast<int>(EscapeReason::wrong_branch); ++k)
+    codes += (k ? ", " : "") + std::to_string(k) + " " +
+             std::string(escape_reason_name(static_cast<EscapeReason>(k)));
+  escape.attr("reason_codes", codes);
+}
+
+}  // namespace qmaps

@@ -1,0 +1,67 @@
+#pragma once
+// The HDF5 file of a run (docs/hdf5-schema.md): provenance, initial and final phase points, the
+// final state, invariants and escapes.
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "core/ensemble.hpp"
+#include "core/io/h5.hpp"
+#include "core/model.hpp"
+#include "core/observers/observers.hpp"
+#include "core/run_plan.hpp"
+#include "ensembles/config/observer_config.hpp"
+
+namespace qmaps {
+
+inline constexpr std::int64_t schema_version = 1;
+
+// Everything of a run but /initial, which is written first, by parts (create_phase, write_phase_part),
+// as the orbits start.
+struct RunRecord {
+  const Model& model;
+  const Ensemble& ensemble;
+  RunPlan plan;
+  Execution execution;  // of the last session
+  std::string ensemble_kind;
+  std::uint64_t seed = 0;
+  Start start = Start::taylor;
+  bool per_orbit = true;  // [output] per_orbit: false leaves out every dataset of shape (N_o,)
+  std::string config_text{}, config_resolved{}, command_line{};
+  std::string started{}, finished{};  // ISO 8601, UTC
+  std::string sessions{};         // one line per process that advanced the run (session_line)
+  const Observers* observers = nullptr;
+  const InvariantImage* image = nullptr;
+  std::string ensemble_description{};  // what the initial conditions are, in one line
+  std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
+};
+
+// One session of a run: its steps, path, threads, times and command line.
+std::string session_line(long long first, long long last, const Execution& x,
+                         const std::string& started, const std::string& finished,
+                         const std::string& command_line);
+
+// Per-orbit datasets are written and copied this many orbits at a time.
+inline constexpr std::size_t orbits_per_part = std::size_t{1} << 20;
+
+// The datasets q1, q2, p1, p2 of `g` for n orbits, written by parts.
+void create_phase(const h5::Group& g, std::size_t n);
+void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points);
+void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points);
+// Copies the phase datasets of `from` (n orbits) into new ones of `to`, by parts.
+void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n);
+
+// The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k:
+// bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins).
+struct DriftHistogram {
+  Histogram histogram;
+  std::int64_t zero = 0;
+};
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
+
+void write_run(const h5::Group& root, const RunRecord& run);
+
+// The current time as ISO 8601 UTC, e.g. 2026-11-21T12:00:00Z.
+std::string utc_now();
+
+}  // namespace qmaps

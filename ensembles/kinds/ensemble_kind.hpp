@@ -1,0 +1,43 @@
+#pragma once
+// What every ensemble kind (box, grid, shell, line, file) provides: its orbit count and orbit i's
+// initial condition as a pure function of (configuration, seed, i), so that any thread may draw
+// any orbit and the result never depends on threads, chunks or order.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "ensembles/config/config.hpp"
+#include "core/phase.hpp"
+
+namespace qmaps {
+
+// Orbit i's starting point, and how many candidates were rejected before it (shell ensembles).
+struct Drawn {
+  Phase point;
+  std::uint64_t rejected = 0;
+};
+
+class EnsembleKind {
+ public:
+  virtual ~EnsembleKind() = default;
+  virtual std::size_t orbits() const = 0;
+  virtual Drawn draw(std::size_t orbit) const = 0;
+  // One line saying what the ensemble is (the `ensemble_description` attribute).
+  virtual std::string description() const = 0;
+  virtual std::uint64_t seed() const { return 0; }
+  // Candidates rejected once for all, not by any one orbit (a shell grid's points off the shell).
+  virtual std::uint64_t rejected_up_front() const { return 0; }
+};
+
+
+// The index of coordinate `name` read from [ensemble] `key` (an error naming the key otherwise).
+int phase_index(const Config& config, std::string_view key, const std::string& name);
+// [ensemble] orbits, > 0.
+std::size_t orbits_of(const Config& config);
+// [ensemble] seed, ≥ 0 (default 0).
+std::uint64_t seed_of(const Config& config);
+// "[lo, hi]" with round-trip digits, or "x" when lo = hi.
+std::string range_text(const std::array<double, 2>& range);
+
+}  // namespace qmaps

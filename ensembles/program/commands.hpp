@@ -1,0 +1,47 @@
+#pragma once
+// The qmaps subcommands, as functions of their parsed options (ensembles/program/main.cpp parses them).
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace qmaps {
+
+struct RunOptions {
+  std::string config_path;        // or, to continue a run:
+  std::string resume;             // its checkpoint, "<output>.ckpt"
+  std::vector<std::string> sets;  // "section.key=value"
+  std::string out;                // overrides [output] file when not empty
+  int threads = 0;                // 0: all the cores OpenMP offers
+  std::string simd = "auto";
+  bool quiet = false;
+  std::string command_line;
+};
+
+struct OrbitOptions {
+  std::string map;
+  std::vector<std::string> sets;  // "name=value" map parameters
+  std::string ic;                 // "q1,q2,p1,p2"
+  long long steps = 0;
+  long long every = 1;
+  std::string start = "taylor";
+  double escape_bound = 1e8;
+};
+
+struct CheckOptions {
+  std::string map;
+  std::vector<std::string> sets;  // "name=value" map parameters
+  long long orbits = 1000;
+  long long steps = 1000;
+  long long seed = 1;
+  double box = 0.5;               // orbits uniform in [−box, box]⁴
+  double escape_bound = 1e8;
+};
+
+// Each returns the process exit code; errors are thrown as qmaps::Error.
+int run_command(const RunOptions& options, std::ostream& log);
+int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& log);
+int list_command(std::ostream& out);
+int info_command(const std::string& path, std::ostream& out);
+int check_command(const CheckOptions& options, std::ostream& out);
+
+}  // namespace qmaps

@@ -1,0 +1,111 @@
+// `qmaps info FILE.h5`: what an earlier run holds — map, parameters, ensemble, orbits, steps,
+// escapes by reason, each invariant's worst and median relative drift, and its histograms and
+// sections with their counts.
+#include <cstdio>
+#include <map>
+#include <ostream>
+
+#include "core/ensemble.hpp"
+#include "core/error.hpp"
+#include "core/io/h5.hpp"
+#include "ensembles/program/commands.hpp"
+#include "ensembles/program/drift_summary.hpp"
+
+namespace qmaps {
+namespace {
+
+std::string g(double x) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", x);
+  return text;
+}
+
+// "128 x 128 bins over q1 x q2, 1000 samples (12 underflow, 3 overflow)"
+std::string histogram_text(const h5::Group& h, const std::string& counts) {
+  std::string text;
+  const auto shape = h.shape(counts);
+  for (std::size_t k = 0; k < shape.size(); ++k)
+    text += (k ? " x " : "") + std::to_string(shape[k]);
+  text += " bins over " + h.attr_string("x");
+  if (h.has_attr("y")) text += " x " + h.attr_string("y");
+  return text + ", " + std::to_string(h.attr_int64("samples")) + " samples (" +
+         std::to_string(h.attr_int64("underflow")) + " underflow, " +
+         std::to_string(h.attr_int64("overflow")) + " overflow)";
+}
+
+}  // namespace
+
+int info_command(const std::string& path, std::ostream& out) {
+  const auto file = h5::File::open_read(path);
+  const auto root = file.root();
+  for (const char* needed : {"schema_version", "map", "orbits", "steps"})
+    if (!root.has_attr(needed))
+      throw Error(ExitCode::io,
+                  "'" + path + "' is not a qmaps output file (no attribute '" + needed + "')");
+  out << "file:       " << path << " (schema " << root.attr_int64("schema_version") << ")\n";
+  out << "map:        " << root.attr_string("map") << " (";
+  bool first = true;
+  for (const auto& name : root.attr_names())
+    if (name.rfind("param.", 0) == 0) {
+      out << (first ? "" : ", ") << name.substr(6) << " = " << number_text(root.attr_double(name));
+      first = false;
+    }
+  out << ")\n";
+  const auto orbits = root.attr_int64("orbits");
+  out << "ensemble:   "
+      << (root.has_attr("ensemble_description") ? root.attr_string("ensemble_description")
+                                                : root.attr_string("ensemble"))
+      << '\n';
+  out << "orbits:     " << orbits << ", steps " << root.attr_int64("steps") << ", start "
+      << root.attr_string("start");
+  if (root.has_attr("rejected")) out << ", rejected " << root.attr_int64("rejected");
+  out << '\n';
+
+  const auto escape = root.open_group("escape");
+  const auto reasons = escape.read_int64("reason");
+  std::map<std::int64_t, std::int64_t> by_reason;
+  std::vector<std::uint8_t> alive(reasons.size());
+  for (std::size_t i = 0; i < reasons.size(); ++i) {
+    alive[i] = reasons[i] == 0;
+    if (reasons[i] != 0) ++by_reason[reasons[i]];
+  }
+  out << "escaped:    " << root.attr_int64("escaped");
+  for (const auto& [reason, count] : by_reason)
+    out << (reason == by_reason.begin()->first ? " (" : ", ") << count << ' '
+        << escape_reason_name(static_cast<EscapeReason>(reason));
+  out << (by_reason.empty() ? "" : ")") << '\n';
+
+  const auto invariants = root.open_group("invariants");
+  out << "invariants: relative drift max|I_n - I_0|/|I_0| over the orbits never escaped\n";
+  for (const auto& name : invariants.members()) {
+    if (name == "image") continue;
+    const auto inv = invariants.open_group(name);
+    const auto initial = inv.read_doubles("initial"), drift = inv.read_doubles("max_abs_drift");
+    const DriftSummary s(initial, drift, alive);
+    out << "  " << name << std::string(name.size() < 6 ? 6 - name.size() : 1, ' ') << "worst "
+        << g(s.percentile(1)) << ", median " << g(s.percentile(0.5)) << '\n';
+  }
+  if (invariants.has("image"))
+    out << "invariant image: " << histogram_text(invariants.open_group("image"), "counts") << '\n';
+  if (root.has("histograms")) {
+    out << "histograms:\n";
+    const auto histograms = root.open_group("histograms");
+    for (const auto& name : histograms.members())
+      out << "  " << name << ": " << histogram_text(histograms.open_group(name), "counts") << '\n';
+  }
+  if (root.has("sections")) {
+    out << "sections:\n";
+    const auto sections = root.open_group("sections");
+    for (const auto& name : sections.members()) {
+      const auto s = sections.open_group(name);
+      out << "  " << name << ": " << s.attr_string("plane") << " = "
+          << number_text(s.attr_double("value")) << " (" << s.attr_string("direction") << ", "
+          << s.attr_string("mode") << "), " << s.attr_int64("crossings") << " crossings, "
+          << s.shape("orbit")[0] << " points kept (cap " << s.attr_int64("cap") << "); "
+          << histogram_text(s, "density") << '\n';
+    }
+  }
+  return 0;
+}
+
+}  // namespace qmaps

@@ -1,0 +1,89 @@
+// qmaps: ensembles of orbits of the integrable maps of H = |p|²/2 + A q1² + B q2² + α q1⁴ + β q2⁴
+// + δ q1² q2², advanced in SIMD across millions of initial conditions. See `qmaps --help`.
+#include <iostream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+#include "ensembles/program/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"qmaps: ensembles of orbits of integrable maps of a quartic-potential Hamiltonian"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("qmaps ") + qmaps::build::version + " (" +
+                                        qmaps::build::commit + ", " + qmaps::build::compiler + ")");
+
+  qmaps::RunOptions run;
+  auto* run_cmd = app.add_subcommand("run", "advance an ensemble as a TOML config says; write HDF5");
+  run_cmd->add_option("config", run.config_path, "TOML configuration file");
+  run_cmd->add_option("--resume", run.resume,
+                      "continue the run of this checkpoint (<output>.ckpt) instead of a config");
+  run_cmd->add_option("--set", run.sets, "override a config key: section.key=value (repeatable)");
+  run_cmd->add_option("--out", run.out, "output HDF5 file (overrides [output] file)");
+  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  run_cmd->add_option("--simd", run.simd, "path: auto, scalar (the reference), sse2, avx2, avx512")
+      ->capture_default_str();
+  run_cmd->add_flag("--quiet", run.quiet, "no progress output");
+
+  qmaps::OrbitOptions orbit;
+  auto* orbit_cmd = app.add_subcommand("orbit", "one orbit as CSV on stdout (the scalar reference path)");
+  orbit_cmd->add_option("--map", orbit.map, "map name")->required();
+  orbit_cmd->add_option("--set", orbit.sets, "a map parameter: name=value (repeatable)");
+  orbit_cmd->add_option("--ic", orbit.ic, "initial condition q1,q2,p1,p2")->required();
+  orbit_cmd->add_option("--steps", orbit.steps, "number of steps N")->required();
+  orbit_cmd->add_option("--every", orbit.every, "print every K-th step")->capture_default_str();
+  orbit_cmd->add_option("--start", orbit.start, "start rule: taylor or euler")->capture_default_str();
+  orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")
+      ->capture_default_str();
+
+  app.add_subcommand("list", "every map: parameters (meaning, default), invariants, equations");
+
+  std::string info_path;
+  auto* info_cmd =
+      app.add_subcommand("info", "what a qmaps HDF5 file holds: map, orbits, drift, observers");
+  info_cmd->add_option("file", info_path, "HDF5 file written by qmaps run")->required();
+
+  qmaps::CheckOptions check;
+  auto* check_cmd =
+      app.add_subcommand("check", "integrability report: invariant drift and reversibility");
+  check_cmd->add_option("--map", check.map, "map name")->required();
+  check_cmd->add_option("--set", check.sets,
+                        "a map parameter: name=value (repeatable; defaults "
+                        "A=0.7 B=0.3 alpha=0.9 h=0.1 ...)");
+  check_cmd->add_option("--orbits", check.orbits, "orbits in the random box")
+      ->capture_default_str();
+  check_cmd->add_option("--steps", check.steps, "steps forward (and as many back)")
+      ->capture_default_str();
+  check_cmd->add_option("--seed", check.seed, "seed of the box")->capture_default_str();
+  check_cmd->add_option("--box", check.box, "orbits uniform in [-box, box]^4")
+      ->capture_default_str();
+  check_cmd->add_option("--escape-bound", check.escape_bound, "escape when |q| exceeds this")
+      ->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : static_cast<int>(qmaps::ExitCode::usage);
+  }
+
+  try {
+    if (*run_cmd) {
+      for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
+      return qmaps::run_command(run, std::cerr);
+    }
+    if (*orbit_cmd) return qmaps::orbit_command(orbit, std::cout, std::cerr);
+    if (*info_cmd) return qmaps::info_command(info_path, std::cout);
+    if (*check_cmd) return qmaps::check_command(check, std::cout);
+    return qmaps::list_command(std::cout);
+  } catch (const qmaps::Error& e) {
+    std::cerr << "qmaps: error: " << e.what() << '\n';
+    return static_cast<int>(e.code());
+  } catch (const std::exception& e) {
+    std::cerr << "qmaps: error: " << e.what() << '\n';
+    return static_cast<int>(qmaps::ExitCode::failure);
+  }
+}

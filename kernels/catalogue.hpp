@@ -1,0 +1,34 @@
+#pragma once
+// Every map of kernels/maps.hpp, by the name that `--map` and `[map] name` take.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+#include <span>
+#include <string_view>
+
+#include "core/map_concept.hpp"
+#include "core/model.hpp"
+
+namespace qmaps {
+
+struct MapEntry {
+  std::string_view name;
+  std::string_view summary;
+  std::string_view equations;          // the paper's equation labels it implements
+  std::string_view invariant_summary;  // its invariants, e.g. "H, I1, I2 (A != B); H, L (A = B)"
+  std::span<const ParamSpec> params;
+  const MapFacts* facts;  // its example parameters, tolerances and preset
+  std::unique_ptr<Model> (*make)(const ParamValues&);
+};
+
+std::span<const MapEntry> catalogue();
+
+// The number that is the whole of `text`, if it is one.
+std::optional<double> number_in(const std::string& text);
+// Map parameters from "name=value" items (--set of `orbit` and `check`).
+ParamValues parse_params(const std::vector<std::string>& sets);
+// The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
+
+}  // namespace qmaps
