@@ -5,13 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <map>
 #include <random>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "core/error.hpp"
@@ -100,18 +98,16 @@ class Checkpoint : public ::testing::Test {
 
   void SetUp() override { write_text(dir / "cfg.toml", config_text(output)); }
 
-  // Starts the run with checkpoints every `every` steps, waits for the first checkpoint (a random
-  // step of the run), sends `sig`, and checks what an interrupted run leaves.
+  // Starts the run with checkpoints every `every` steps, has it signal itself with `sig` at its
+  // first checkpoint's step, and checks what an interrupted run leaves.
   Result interrupt(long long every, int sig, std::vector<std::string> extra = {}) {
     extra.insert(extra.begin(),
                  {"run", "cfg.toml", "--set", "run.checkpoint_every=" + std::to_string(every)});
-    const pid_t pid = spawn(extra, dir);
-    for (int i = 0; i < 4000 && !fs::exists(checkpoint); ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    kill(pid, sig);
+    const std::string name = sig == SIGINT ? "SIGINT" : "SIGTERM";
+    const pid_t pid = spawn(extra, dir, std::to_string(every) + ":" + name.substr(3));
     const Result r = finish(pid, dir);
     EXPECT_EQ(r.status, kInterrupted) << "the run ended before the signal: " << r.err;
-    EXPECT_TRUE(Contains(r.err, std::string(sig == SIGINT ? "SIGINT" : "SIGTERM") + " at step "));
+    EXPECT_TRUE(Contains(r.err, name + " at step " + std::to_string(every) + " of "));
     EXPECT_TRUE(Contains(r.err, "qmaps run --resume " + checkpoint));
     EXPECT_FALSE(fs::exists(output));
     EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
@@ -126,9 +122,11 @@ class Checkpoint : public ::testing::Test {
 };
 
 TEST_F(Checkpoint, InterruptedBySigintAndResumedElsewhereEqualsUninterruptedRun) {
-  std::mt19937 random(std::random_device{}());
+  const unsigned seed = std::random_device{}();
+  std::mt19937 random(seed);
   const long long every = std::uniform_int_distribution<long long>(20, 600)(random);
-  SCOPED_TRACE("checkpoint_every = " + std::to_string(every));
+  std::cout << "[ seed ] " << seed << ": checkpoint_every = " << every << '\n';
+  SCOPED_TRACE("seed " + std::to_string(seed) + ", checkpoint_every = " + std::to_string(every));
   interrupt(every, SIGINT);
   const Result r = resume({"--threads", "1", "--simd", other_isa()});
   ASSERT_EQ(r.status, 0) << r.err;
@@ -142,14 +140,10 @@ TEST_F(Checkpoint, InterruptedBySigintAndResumedElsewhereEqualsUninterruptedRun)
 
 TEST_F(Checkpoint, InterruptedBySigtermTwiceAndResumedEqualsUninterruptedRun) {
   interrupt(100, SIGTERM);
-  // The resumed run is interrupted in turn once it has written a later checkpoint.
-  const auto first = fs::last_write_time(checkpoint);
-  const pid_t pid = spawn({"run", "--resume", checkpoint}, dir);
-  for (int i = 0; i < 4000 && fs::last_write_time(checkpoint) == first; ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  kill(pid, SIGTERM);
-  const Result second = finish(pid, dir);
+  // The resumed run is interrupted in turn at its next checkpoint.
+  const Result second = run({"run", "--resume", checkpoint}, dir, "200:TERM");
   ASSERT_EQ(second.status, kInterrupted) << second.err;
+  EXPECT_TRUE(Contains(second.err, "SIGTERM at step 200 of "));
   EXPECT_FALSE(fs::exists(output));
   const Result r = resume();
   ASSERT_EQ(r.status, 0) << r.err;
@@ -238,11 +232,8 @@ TEST_F(BadCheckpoint, FinalFileIsNoCheckpoint) {
 
 TEST_F(BadCheckpoint, OtherVersionIsRefusedNamingBoth) {
   write_text(dir / "cfg.toml", preset_config("run.h5", 20000, 2000));
-  const pid_t pid = spawn({"run", "cfg.toml", "--set", "run.checkpoint_every=1"}, dir);
-  for (int i = 0; i < 4000 && !fs::exists(dir / "run.h5.ckpt"); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  kill(pid, SIGINT);
-  ASSERT_EQ(finish(pid, dir).status, kInterrupted);
+  ASSERT_EQ(run({"run", "cfg.toml", "--set", "run.checkpoint_every=1"}, dir, "5:INT").status,
+            kInterrupted);
   {
     h5::Handle file(H5Fopen((dir / "run.h5.ckpt").c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     ASSERT_GE(file.id(), 0);

@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <string>
@@ -17,7 +18,10 @@
 #include <vector>
 
 #include "core/error.hpp"
+#include "core/isa.hpp"
 #include "core/map_concept.hpp"
+#include "ensemble_fixtures.hpp"
+#include "isas_run.hpp"
 #include "kernels/flow.hpp"
 
 namespace qmaps {
@@ -151,28 +155,31 @@ TEST(Flow, LeapfrogIsTheOrderTwoFlowBitForBit) {
   EXPECT_EQ(Leapfrog::invariant_names(l), Flow::invariant_names(f));
 }
 
-TEST(Flow, BatchEqualsScalarBitForBit) {
-  using V = xsimd::batch<double>;
-  constexpr std::size_t W = V::size;
-  std::mt19937_64 rng(7);
-  std::uniform_real_distribution<double> u(-0.5, 0.5);
+// Every composition on every ISA run here, through the runner, equals the scalar reference byte
+// for byte: states and invariants.
+TEST(Flow, EveryIsaEqualsScalarByteForByteAtEveryOrder) {
+  const auto isas = testing::isas_to_run();
+  ASSERT_FALSE(isas.empty());
+  const auto points = testing::box_points(1001, 0.5, 0.5, 7);
   for (double order : {2.0, 4.0, 6.0, 8.0}) {
-    const auto c = flow(cases[3], 0.05, order);
-    alignas(64) std::array<std::array<double, W>, 4> lanes;
-    for (auto& k : lanes)
-      for (auto& x : k) x = u(rng);
-    std::array<V, 4> s;
-    for (std::size_t k = 0; k < 4; ++k) s[k] = ops::load<V>(lanes[k].data());
-    s = run<Flow>(c, s, 200);
-    V out[2];
-    Flow::invariants(c, s, out);
-    for (std::size_t l = 0; l < W; ++l) {
-      const std::array x = {lanes[0][l], lanes[1][l], lanes[2][l], lanes[3][l]};
-      const auto ref = run<Flow>(c, x, 200);
-      double inv[2];
-      Flow::invariants(c, ref, inv);
-      for (std::size_t k = 0; k < 4; ++k) EXPECT_EQ(ops::lanes_of(s[k])[l], ref[k]) << order << l;
-      for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(ops::lanes_of(out[k])[l], inv[k]) << order << l;
+    const auto model = make_model("flow", {{"A", 0.7}, {"B", 2.8}, {"alpha", 0.9}, {"beta", 7.2},
+                                           {"delta", 5.4}, {"h", 0.05}, {"order", order}});
+    RunPlan plan;
+    plan.total = plan.last = 200;
+    Ensemble ref = model->start(points, Start::taylor, plan.escape_bound);
+    model->advance(ref, plan, Execution{});
+    for (Isa isa : isas) {
+      Ensemble e = model->start(points, Start::taylor, plan.escape_bound);
+      model->advance(e, plan, Execution{isa, 2, 4});
+      for (std::size_t i = 0; i < e.orbits; ++i) {
+        const auto a = model->invariants(ref, i), b = model->invariants(e, i);
+        for (std::size_t k = 0; k < e.state.size(); ++k)
+          ASSERT_EQ(std::memcmp(&ref.state[k][i], &e.state[k][i], sizeof(double)), 0)
+              << isa_name(isa) << " order " << order << " orbit " << i << " state " << k << ": "
+              << ref.state[k][i] << " vs " << e.state[k][i];
+        ASSERT_EQ(std::memcmp(a.data(), b.data(), a.size() * sizeof(double)), 0)
+            << isa_name(isa) << " order " << order << " orbit " << i << " invariants";
+      }
     }
   }
 }
@@ -373,6 +380,7 @@ long double printed_I3(const Flow::Coeffs& c, const std::array<long double, 4>& 
 TEST(Flow, SecondIntegralsPoissonCommuteWithHWithinTolerance) {
   // 20 random points and parameter sets; |{I, H}| relative to |∇I||∇H|.
   std::mt19937_64 rng(2024);
+  std::cout << "[ seed ] 2024\n";
   std::uniform_real_distribution<double> u(-0.6, 0.6), pos(0.2, 1.5), coupling(-1.0, 1.0);
   const std::array<std::string_view, 7> labels = {"I",      "II",          "III",      "IV",
                                                   "I, A=B", "linear",      "linear A=B"};

@@ -3,12 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <regex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "ensembles/config/config.hpp"
@@ -258,17 +256,13 @@ TEST_F(Io, EscapedOrbitIsFrozenAtLastStateWithinBound) {
 }
 
 TEST_F(Io, KilledRunLeavesNoFileUnderFinalName) {
-  config = edited(config, {{"orbits = ", "orbits = 2000000"}, {"steps = ", "steps = 3000"}});
+  config = edited(config, {{"orbits = ", "orbits = 20000"}, {"steps = ", "steps = 3000"}});
   write_text(dir / "cfg.toml", config);
-  const pid_t pid = spawn({"run", "cfg.toml"}, dir);
+  const pid_t pid = spawn({"run", "cfg.toml"}, dir, "1000:KILL");
   const std::string temporary = output + ".tmp-" + std::to_string(pid);
-  for (int i = 0; i < 200 && !fs::exists(temporary); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-  EXPECT_TRUE(fs::exists(temporary));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  kill(pid, SIGKILL);
   const Result r = finish(pid, dir);
-  EXPECT_EQ(r.status, 128 + SIGKILL) << "the run ended before it was killed: " << r.err;
+  EXPECT_EQ(r.status, 128 + SIGKILL) << "the run was not killed at step 1000: " << r.err;
+  EXPECT_TRUE(fs::exists(temporary)) << "killed while writing to its temporary";
   EXPECT_FALSE(fs::exists(output));
 }
 

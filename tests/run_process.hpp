@@ -117,8 +117,10 @@ struct Result {
 };
 
 // Starts QMAPS_BINARY with `args` in directory `dir`, stdout and stderr to dir/.stdout,
-// dir/.stderr.
-inline pid_t spawn(const std::vector<std::string>& args, const TempDir& dir) {
+// dir/.stderr. `signal_at` ("STEP:INT", "STEP:TERM", "STEP:KILL"): the run signals itself on
+// reaching that step (QMAPS_SIGNAL_AT_STEP), so an interruption happens where the test says.
+inline pid_t spawn(const std::vector<std::string>& args, const TempDir& dir,
+                   const std::string& signal_at = "") {
   const std::string out = dir / ".stdout", err = dir / ".stderr";
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
@@ -130,6 +132,7 @@ inline pid_t spawn(const std::vector<std::string>& args, const TempDir& dir) {
     const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (o < 0 || e < 0 || dup2(o, 1) < 0 || dup2(e, 2) < 0 || chdir(dir.path().c_str()) != 0)
       _exit(127);
+    if (!signal_at.empty()) setenv("QMAPS_SIGNAL_AT_STEP", signal_at.c_str(), 1);
     execv(QMAPS_BINARY, argv.data());
     _exit(127);
   }
@@ -149,8 +152,9 @@ inline Result finish(pid_t pid, const TempDir& dir) {
   return r;
 }
 
-inline Result run(const std::vector<std::string>& args, const TempDir& dir) {
-  return finish(spawn(args, dir), dir);
+inline Result run(const std::vector<std::string>& args, const TempDir& dir,
+                  const std::string& signal_at = "") {
+  return finish(spawn(args, dir, signal_at), dir);
 }
 
 }  // namespace qmaps::testing

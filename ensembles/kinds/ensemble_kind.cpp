@@ -1,8 +1,14 @@
 #include "ensembles/kinds/ensemble_kind.hpp"
 
+#include <stdexcept>
+
 #include "core/error.hpp"
 
 namespace qmaps {
+
+void EnsembleKind::continue_into(Ensemble&, double) const {
+  throw std::logic_error("continue_into: " + description() + " does not continue saved states");
+}
 
 int phase_index(const Config& config, std::string_view key, const std::string& name) {
   for (std::size_t k = 0; k < phase_names.size(); ++k)

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/ensemble.hpp"
 #include "ensembles/config/config.hpp"
 #include "core/phase.hpp"
 
@@ -28,6 +29,13 @@ class EnsembleKind {
   virtual std::uint64_t seed() const { return 0; }
   // Candidates rejected once for all, not by any one orbit (a shell grid's points off the shell).
   virtual std::uint64_t rejected_up_front() const { return 0; }
+  // Whether drawing rejects candidate points (a shell's off the energy surface): the run then
+  // reports how many.
+  virtual bool rejects_points() const { return false; }
+  // Whether the orbits continue saved map states (a file's /final/state) instead of starting at
+  // their drawn points; then continue_into() starts every orbit of `e` in its state.
+  virtual bool continues() const { return false; }
+  virtual void continue_into(Ensemble& e, double escape_bound) const;
 };
 
 

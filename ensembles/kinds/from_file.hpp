@@ -22,9 +22,9 @@ class FromFile final : public EnsembleKind {
   Drawn draw(std::size_t orbit) const override;
   std::string description() const override;
   // group = "final": the orbits continue the file's states (continue_into()), not its points.
-  bool continues() const { return final_; }
+  bool continues() const override { return final_; }
   // Starts every orbit of `e` in the file's state, the orbits escaped there escaped at step 0.
-  void continue_into(Ensemble& e, double escape_bound) const;
+  void continue_into(Ensemble& e, double escape_bound) const override;
 
  private:
   const Model& model_;

@@ -3,6 +3,8 @@
 #include <omp.h>
 
 #include <limits>
+#include <string_view>
+#include <type_traits>
 
 #include "core/error.hpp"
 #include "ensembles/kinds/box.hpp"
@@ -43,31 +45,50 @@ Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
   return g;
 }
 
+namespace {
+
+// Every ensemble kind, by the name [ensemble] kind takes.
+struct KindEntry {
+  std::string_view name;
+  std::shared_ptr<const EnsembleKind> (*make)(const Config&, const Model&);
+};
+template <class Kind>
+std::shared_ptr<const EnsembleKind> make_kind(const Config& config, const Model& model) {
+  if constexpr (std::is_constructible_v<Kind, const Config&, const Model&>)
+    return std::make_shared<Kind>(config, model);
+  else if constexpr (std::is_constructible_v<Kind, const Config&, Potential>)
+    return std::make_shared<Kind>(config, model.continuous());
+  else
+    return std::make_shared<Kind>(config);
+}
+constexpr KindEntry kinds_list[] = {{"box", make_kind<Box>},     {"grid", make_kind<Grid>},
+                                    {"shell", make_kind<Shell>}, {"line", make_kind<Line>},
+                                    {"file", make_kind<FromFile>}};
+
+}  // namespace
+
+std::string InitialConditions::kinds() {
+  std::string names;
+  for (const auto& k : kinds_list) names += (names.empty() ? "" : ", ") + std::string(k.name);
+  return names;
+}
+
 InitialConditions InitialConditions::from_config(const Config& config, const Model& model) {
   InitialConditions ic;
   ic.kind_ = config.string_or("ensemble", "kind", "box");
-  if (ic.kind_ == "box")
-    ic.generator_ = std::make_shared<Box>(config);
-  else if (ic.kind_ == "grid")
-    ic.generator_ = std::make_shared<Grid>(config);
-  else if (ic.kind_ == "shell")
-    ic.generator_ = std::make_shared<Shell>(config, model.continuous());
-  else if (ic.kind_ == "line")
-    ic.generator_ = std::make_shared<Line>(config);
-  else if (ic.kind_ == "file")
-    ic.generator_ = std::make_shared<FromFile>(config, model);
-  else
+  for (const auto& k : kinds_list)
+    if (k.name == ic.kind_) ic.generator_ = k.make(config, model);
+  if (!ic.generator_)
     throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + ic.kind_ +
-                      "' (known: " + kinds + ")");
+                      "' (known: " + kinds() + ")");
   return ic;
 }
 
 std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start rule,
                                        double escape_bound, const PointsSink& sink,
                                        std::size_t part) const {
-  const auto* file = dynamic_cast<const FromFile*>(generator_.get());
-  const bool continues = file && file->continues();
-  if (continues) file->continue_into(e, escape_bound);
+  const bool continues = generator_->continues();
+  if (continues) generator_->continue_into(e, escape_bound);
   std::uint64_t rejected = generator_->rejected_up_front();
   const std::size_t n = orbits();
   std::vector<Phase> points(std::min(n, part));

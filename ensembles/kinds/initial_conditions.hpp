@@ -34,7 +34,7 @@ using PointsSink = std::function<void(std::size_t first, std::span<const Phase> 
 
 class InitialConditions {
  public:
-  static constexpr const char* kinds = "box, grid, shell, line, file";
+  static std::string kinds();  // "box, grid, shell, line, file"
 
   // Reads [ensemble] kind (default "box") and that kind's keys; every error names its key.
   static InitialConditions from_config(const Config& config, const Model& model);

@@ -37,6 +37,7 @@ class Shell final : public EnsembleKind {
   std::string description() const override;
   std::uint64_t seed() const override { return seed_; }
   std::uint64_t rejected_up_front() const override { return rejected_up_front_; }
+  bool rejects_points() const override { return true; }
 
   // The point with the three other coordinates of x and `solve` from H = E, if there is one.
   std::optional<Phase> solve(std::array<double, 4> x) const;

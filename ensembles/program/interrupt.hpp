@@ -13,4 +13,18 @@ class InterruptGuard {
   int signal() const;      // which one (0: none)
 };
 
+// A signal the run sends itself on reaching a step, so that an interruption can be reproduced
+// exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM or KILL), see docs/cli.md.
+class SelfSignal {
+ public:
+  static SelfSignal from_environment();  // none when unset; a malformed value is a usage error
+  // The end of a segment from `first` to at most `last` that stops at the step, if it lies between.
+  long long segment_end(long long first, long long last) const;
+  void deliver_if_due(long long step);  // raises the signal once the run is at the step
+
+ private:
+  long long step_ = -1;  // -1: none
+  int signal_ = 0;
+};
+
 }  // namespace qmaps

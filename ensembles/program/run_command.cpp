@@ -70,6 +70,7 @@ struct Run {
   std::string kind, description;  // the ensemble's kind and its one-line description
   std::uint64_t seed = 0;
   std::uint64_t rejected = 0;  // candidates rejected while drawing it (shell ensembles)
+  bool rejects_points = false;  // the kind rejects candidates: the summary says how many
   // Provenance carried over from the first session (and the checkpoints).
   std::string config_text, config_resolved, command_line, started, sessions;
 };
@@ -138,6 +139,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
                      initial ? &*initial : nullptr);
   };
 
+  SelfSignal self_signal = SelfSignal::from_environment();
   Progress progress(!options.quiet && isatty(STDERR_FILENO), log, r.orbits, first, r.plan.total);
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
@@ -151,6 +153,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     segment.last = std::min(r.plan.total, e.step + length);
     if (r.checkpoint_every > 0)
       segment.last = std::min(segment.last, (e.step / r.checkpoint_every + 1) * r.checkpoint_every);
+    segment.last = self_signal.segment_end(segment.first, segment.last);
     const double t = progress.seconds();
     Observers part = blank.empty_copy();
     r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
@@ -158,6 +161,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     const double took = progress.seconds() - t;
     progress.update(e.step);
     if (e.step == r.plan.total) break;
+    self_signal.deliver_if_due(e.step);
     if (interrupt.requested()) {
       save();
       progress.end();
@@ -188,7 +192,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
                 std::string(r.model->name()).c_str(), r.orbits, r.plan.total - first, seconds,
                 rate, std::string(isa_name(r.x.isa)).c_str(), r.x.threads,
                 r.x.threads == 1 ? "" : "s", e.escaped(),
-                r.kind == "shell" ? (", " + std::to_string(r.rejected) + " rejected").c_str() : "",
+                r.rejects_points ? (", " + std::to_string(r.rejected) + " rejected").c_str() : "",
                 r.path.c_str());
   log << line;
   return 0;
@@ -216,6 +220,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
     r.seed = static_cast<std::uint64_t>(root.attr_int64("seed"));
     r.description = root.attr_string("ensemble_description");
     r.rejected = static_cast<std::uint64_t>(root.attr_int64("rejected"));
+    r.rejects_points = r.rejected > 0;  // the kind itself is not rebuilt on resumption
     r.config_text = root.attr_string("config");
     r.command_line = root.attr_string("command_line");
     r.started = root.attr_string("started");
@@ -254,6 +259,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
   const auto initial_conditions = InitialConditions::from_config(config, *model);
   Run r = run_of(config, std::move(model), initial_conditions.orbits(), options);
   r.kind = initial_conditions.kind();
+  r.rejects_points = initial_conditions.generator().rejects_points();
   r.description = initial_conditions.description();
   r.seed = initial_conditions.seed();
   r.command_line = options.command_line;

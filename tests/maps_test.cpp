@@ -1,0 +1,75 @@
+// The list of maps (kernels/maps.hpp) and what each map brings with it: every map satisfies the
+// KernelMap concept, has a preset in ensembles/presets that runs it, and a section of docs/maps.md
+// whose heading names it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "ensembles/config/config.hpp"
+#include "kernels/catalogue.hpp"
+#include "kernels/maps.hpp"
+
+namespace qmaps {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string read(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(Maps, EveryMapOfTheListIsAKernelMapInTheCatalogue) {
+  std::size_t count = 0;
+  kernels::for_each_map([&](auto map) {
+    using Map = decltype(map);
+    static_assert(KernelMap<Map>);
+    ASSERT_LT(count, catalogue().size());
+    EXPECT_EQ(catalogue()[count].name, Map::name);
+    EXPECT_EQ(catalogue()[count].facts, &Map::facts);
+    ++count;
+  });
+  EXPECT_EQ(count, catalogue().size());
+  EXPECT_EQ(count, std::tuple_size_v<kernels::Maps>);
+}
+
+TEST(Maps, EveryMapHasAPresetThatRunsIt) {
+  for (const MapEntry& m : catalogue()) {
+    const fs::path preset =
+        fs::path(QMAPS_SOURCE_DIR) / "ensembles/presets" / (std::string(m.facts->preset) + ".toml");
+    ASSERT_TRUE(fs::is_regular_file(preset)) << m.name << ": no preset " << preset;
+    EXPECT_EQ(Config::load(preset).string("map", "name"), m.name) << preset;
+  }
+}
+
+TEST(Maps, EveryMapHasASectionOfDocsMaps) {
+  const std::string docs = read(fs::path(QMAPS_SOURCE_DIR) / "docs/maps.md");
+  std::set<std::string> headings;
+  std::istringstream lines(docs);
+  for (std::string line; std::getline(lines, line);)
+    if (line.rfind("## ", 0) == 0) headings.insert(line);
+  for (const MapEntry& m : catalogue()) {
+    bool found = false;
+    for (const auto& h : headings) found |= h.find("`" + std::string(m.name) + "`") != std::string::npos;
+    EXPECT_TRUE(found) << m.name << ": no heading of docs/maps.md names `" << m.name << "`";
+  }
+}
+
+TEST(Maps, EveryExampleResolvesAndItsEscapingSetHasANegativeQuartic) {
+  for (const MapEntry& m : catalogue()) {
+    EXPECT_NO_THROW(m.make(param_values(m.facts->example))) << m.name;
+    const auto escaping = param_values(m.facts->escaping);
+    EXPECT_NO_THROW(m.make(escaping)) << m.name;
+    EXPECT_LT(escaping.at("alpha"), 0) << m.name;
+    EXPECT_TRUE(param_values(m.facts->example).count(std::string(m.facts->step))) << m.name;
+  }
+}
+
+}  // namespace
+}  // namespace qmaps
