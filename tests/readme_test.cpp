@@ -41,10 +41,11 @@ TEST(Readme, EveryExampleCommandRunsAsWritten) {
   ASSERT_GE(commands.size(), 5u) << "the README's sh blocks were not found";
   const std::string setup = "bash tools/setup && ";
   EXPECT_EQ(commands[0].rfind(setup + "build/qmaps run ", 0), 0u) << commands[0];
-  EXPECT_EQ(commands[1], setup + "ctest --test-dir build --output-on-failure -j2");
+  EXPECT_EQ(commands[1], "bash tools/setup --all && ctest --test-dir build --output-on-failure -j2");
   int ran = 0;
   for (std::string command : commands) {
     if (command.rfind(setup, 0) == 0) command = command.substr(setup.size());
+    if (command.rfind("bash tools/setup --all && ", 0) == 0) continue;  // the test suite itself
     if (command.rfind("ctest ", 0) == 0 || command.rfind("build/bench/", 0) == 0 ||
         command.rfind("bench/report", 0) == 0)
       continue;
