@@ -34,8 +34,7 @@ struct Scenario {
 std::vector<Scenario> scenarios() {
   std::vector<Scenario> out;
   for (const MapEntry& m : catalogue()) {
-    std::string id(m.name);
-    std::replace(id.begin(), id.end(), '-', '_');
+    const std::string id = testing::test_id(m.name);
     const ParamValues example = param_values(m.facts->example);
     out.push_back({id, std::string(m.name), example, 0.5, 0.5, 1e8});
     out.push_back({id + "_escaping", std::string(m.name), param_values(m.facts->escaping), 1.2,

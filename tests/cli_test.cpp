@@ -15,6 +15,7 @@
 
 #include "core/io/h5.hpp"
 #include "core/isa.hpp"
+#include "kernels/catalogue.hpp"
 #include "run_process.hpp"
 
 namespace qmaps::testing {
@@ -461,9 +462,10 @@ TEST_F(Cli, SetReachesArraysOfTablesInRun) {
 TEST_F(Cli, ListPrintsEveryMapWithParametersInvariantsAndEquations) {
   const Result r = run({"list"}, dir);
   ASSERT_EQ(r.status, 0) << r.err;
-  for (const char* map :
-       {"suris:", "case2:", "case2-staggered:", "case2-hky:", "case3:", "flow:", "leapfrog:"})
-    EXPECT_TRUE(Contains(r.out, std::string("\n") + map) || r.out.rfind(map, 0) == 0) << map;
+  for (const MapEntry& m : catalogue()) {
+    const std::string map = std::string(m.name) + ":";
+    EXPECT_TRUE(Contains(r.out, "\n" + map) || r.out.rfind(map, 0) == 0) << map;
+  }
   for (const char* part :
        {"invariants: H, I1, I2 (A != B); H, L (A = B)", "(disc-hamilton2)", "(discrete-case2-2)",
         "(levi)", "t_order", "(default 2)",
@@ -537,7 +539,8 @@ TEST_F(Cli, CheckReportsDriftPercentilesAndReversibility) {
   EXPECT_LT(worst, 1e-11);
   const double reversibility = std::strtod(r.out.substr(r.out.rfind("= ") + 2).c_str(), nullptr);
   EXPECT_LT(reversibility, 1e-10);
-  for (const char* map : {"case2", "case2-staggered", "case2-hky", "case3", "flow", "leapfrog"}) {
+  for (const MapEntry& m : catalogue()) {  // each with its example's parameters
+    const std::string map(m.name);
     const Result other = run({"check", "--map", map, "--orbits", "64", "--steps", "100"}, dir);
     EXPECT_EQ(other.status, 0) << map << other.err;
     EXPECT_TRUE(Contains(other.out, "reversibility: ")) << map;

@@ -90,11 +90,7 @@ TEST_P(Convergence, ConvergesToTheFlowAtItsStatedOrderWithTaylorStartWithinToler
 }
 
 INSTANTIATE_TEST_SUITE_P(Maps, Convergence, ::testing::ValuesIn(discretizations()),
-                         [](const auto& info) {
-                           std::string id = info.param;
-                           std::replace(id.begin(), id.end(), '-', '_');
-                           return id;
-                         });
+                         [](const auto& info) { return testing::test_id(info.param); });
 
 TEST(ConvergenceOfStarts, SurisIsFirstOrderWithEulerStartWithinTolerance) {
   const ParamValues p{{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}};

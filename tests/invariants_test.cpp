@@ -32,8 +32,7 @@ struct Conservation {
 std::vector<Conservation> maps() {
   std::vector<Conservation> out;
   for (const MapEntry& m : catalogue()) {
-    std::string id(m.name);
-    std::replace(id.begin(), id.end(), '-', '_');
+    const std::string id = testing::test_id(m.name);
     out.push_back({id, std::string(m.name), param_values(m.facts->example),
                    m.facts->slow ? 200u : 500u, m.facts->drift_tolerance});
   }

@@ -26,8 +26,7 @@ struct Reversal {
 std::vector<Reversal> maps() {
   std::vector<Reversal> out;
   for (const MapEntry& m : catalogue()) {
-    std::string id(m.name);
-    std::replace(id.begin(), id.end(), '-', '_');
+    const std::string id = testing::test_id(m.name);
     out.push_back({id, std::string(m.name), param_values(m.facts->example), 4,
                    m.facts->reversal_tolerance});
   }
