@@ -1,7 +1,12 @@
 // The cost of observing: Suris on the best ISA, 2^18 orbits, 1000 steps per iteration (bench_size),
-// raw and with the invariants tracked and a 128×128 (q1, q2) density sampled every `stride` steps.
+// default chains: raw; with the invariants tracked and a 128×128 (q1, q2) density sampled every
+// `stride` steps; a section alone (q1 = 0 both ways, iterate, cap 50); and the default preset's
+// observers (invariants and density every 10 steps, the section q1 = 0 upward with cap 2).
 // items_per_second = particle-steps/s; histogram_updates_per_second counts density samples.
 #include <benchmark/benchmark.h>
+
+#include <memory>
+#include <vector>
 
 #include "core/isa.hpp"
 #include "bench_ensemble.hpp"
@@ -10,26 +15,49 @@
 namespace qmaps {
 namespace {
 
-void observe(benchmark::State& state, bool invariants, bool density) {
+Section q1_section(int direction, std::int64_t cap, std::size_t orbits) {
+  Section s;
+  s.name = "q1";
+  s.plane = Coordinate::q1;
+  s.direction = direction;
+  s.x = Coordinate::q2;
+  s.y = Coordinate::p2;
+  s.cap = cap;
+  s.density = Histogram("q1", {{"q2", -1, 1, 128}, {"p2", -1, 1, 128}});
+  s.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+  return s;
+}
+
+void observe(benchmark::State& state, bool invariants, bool density, int section) {
   const long long stride = state.range(0);
   const int threads = static_cast<int>(state.range(1));
   const auto model = make_model("suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}});
   const auto orbits = static_cast<std::size_t>(bench_size().simd_orbits);
   const long long steps = bench_size().steps;
   Ensemble e = bench_ensemble(*model, orbits);
-  Observers o;
-  if (density)
-    o.densities.push_back({Histogram("q1q2", {{"q1", -1, 1, 128}, {"q2", -1, 1, 128}}),
-                           {Coordinate::q1, Coordinate::q2}});
-  for (auto _ : state)
-    model->advance(e, next_steps(e, steps, invariants, stride), Execution{best_isa(), threads, 4},
-                   density ? &o : nullptr);
+  // Each iteration observes afresh, as each segment of a run does (its sections' caps anew).
+  const auto make = [&] {
+    Observers o;
+    if (section == 2) o.sections.push_back(q1_section(0, 50, orbits));  // alone, both ways
+    if (section == 1) o.sections.push_back(q1_section(1, 2, orbits));   // the preset's
+    if (density)
+      o.densities.push_back({Histogram("q1q2", {{"q1", -1, 1, 128}, {"q2", -1, 1, 128}}),
+                             {Coordinate::q1, Coordinate::q2}});
+    return o;
+  };
+  std::int64_t samples = 0;
+  for (auto _ : state) {
+    Observers o = make();
+    model->advance(e, next_steps(e, steps, invariants, stride), Execution{best_isa(), threads},
+                   o.empty() ? nullptr : &o);
+    if (density) samples += o.densities[0].histogram.samples();
+  }
   describe(state, "suris", isa_name(best_isa()), static_cast<double>(orbits),
            static_cast<double>(steps), threads);
   state.counters["stride"] = static_cast<double>(stride);
   if (density)
     state.counters["histogram_updates_per_second"] = benchmark::Counter(
-        static_cast<double>(o.densities[0].histogram.samples()), benchmark::Counter::kIsRate);
+        static_cast<double>(samples), benchmark::Counter::kIsRate);
 }
 
 void args(benchmark::internal::Benchmark* b) {
@@ -38,10 +66,17 @@ void args(benchmark::internal::Benchmark* b) {
     for (long threads : {1, 2}) b->Args({stride, threads});
 }
 
-BENCHMARK_CAPTURE(observe, raw, false, false)->ArgNames({"stride", "threads"})->Args({1000, 1})->Args({1000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(observe, invariants, true, false)->Apply(args);
-BENCHMARK_CAPTURE(observe, invariants_density, true, true)->Apply(args);
-BENCHMARK_CAPTURE(observe, density, false, true)->Apply(args);
+void threads_only(benchmark::internal::Benchmark* b) {
+  b->ArgNames({"stride", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
+  for (long threads : {1, 2}) b->Args({10, threads});
+}
+
+BENCHMARK_CAPTURE(observe, raw, false, false, 0)->ArgNames({"stride", "threads"})->Args({1000, 1})->Args({1000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(observe, invariants, true, false, 0)->Apply(args);
+BENCHMARK_CAPTURE(observe, invariants_density, true, true, 0)->Apply(args);
+BENCHMARK_CAPTURE(observe, density, false, true, 0)->Apply(args);
+BENCHMARK_CAPTURE(observe, section, false, false, 2)->ArgNames({"stride", "threads"})->Args({1000, 1})->Args({1000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(observe, preset, true, true, 1)->Apply(threads_only);
 
 }  // namespace
 }  // namespace qmaps

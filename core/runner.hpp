@@ -6,6 +6,7 @@
 // (integer counts; section points are put in (orbit, step) order when the observers finish).
 #include <cstddef>
 #include <string>
+#include <utility>
 
 #include "core/dispatch.hpp"
 #include "core/ensemble.hpp"
@@ -38,7 +39,7 @@ void run(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan, const 
       for (long long b = 0; b < blocks; ++b)
         advance(c, e, static_cast<std::size_t>(b) * block, block, x.chains, plan, mine);
 #pragma omp critical(qmaps_merge_observers)
-      if (observers) observers->merge(partial);
+      if (observers) observers->merge(std::move(partial));
     }
   }
   if (observers) observers->finish();

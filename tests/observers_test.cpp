@@ -11,6 +11,7 @@
 #include "core/isa.hpp"
 #include "core/observers/histogram_lanes.hpp"
 #include "ensemble_fixtures.hpp"
+#include "isas_run.hpp"
 #include "kernels/suris.hpp"
 
 namespace qmaps {
@@ -88,6 +89,116 @@ TEST(Observers, OutputIsBitIdenticalOnEveryIsaThreadCountAndBlockSize) {
           }
     }
   }
+}
+
+Section section(std::string name, Coordinate plane, int direction, bool linear, std::int64_t cap,
+                std::size_t orbits) {
+  Section s;
+  s.name = std::move(name);
+  s.plane = plane;
+  s.direction = direction;
+  s.linear = linear;
+  s.x = plane == Coordinate::q1 ? Coordinate::q2 : Coordinate::q1;
+  s.y = plane == Coordinate::q1 ? Coordinate::p2 : Coordinate::p1;
+  s.cap = cap;
+  s.density = Histogram(s.name, {{"x", -1, 1, 16}, {"y", -1, 1, 16}});
+  s.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+  return s;
+}
+
+// Runs `make()`'s observers on the reference and on every ISA × threads × chains; every path
+// must give the reference's bytes (observers, states, escapes). Returns the reference.
+template <class Make>
+std::pair<Observers, Ensemble> expect_every_path_equal(const Model& model,
+                                                        const std::vector<Phase>& points,
+                                                        const RunPlan& plan, Make make,
+                                                        const std::string& what) {
+  Observers ref = make();
+  Ensemble e0 = model.start(points, Start::taylor, plan.escape_bound);
+  model.advance(e0, plan, Execution{}, &ref);
+  for (Isa isa : testing::isas_to_run())
+    for (int threads : {1, 2})
+      for (int chains : {1, 4, 8}) {
+        Observers o = make();
+        Ensemble e = model.start(points, Start::taylor, plan.escape_bound);
+        model.advance(e, plan, Execution{isa, threads, chains}, &o);
+        const std::string where = what + ": " + std::string(isa_name(isa)) + ", " +
+                                  std::to_string(threads) + " threads, " +
+                                  std::to_string(chains) + " chains";
+        EXPECT_TRUE(same_bytes(ref, o)) << where;
+        EXPECT_EQ(std::memcmp(e.escape_step.data(), e0.escape_step.data(), e.orbits * 8), 0)
+            << where;
+        for (std::size_t k = 0; k < e.state.size(); ++k)
+          EXPECT_EQ(std::memcmp(e.state[k].data(), e0.state[k].data(), e.orbits * 8), 0) << where;
+      }
+  return {std::move(ref), std::move(e0)};
+}
+
+// Sections are watched inside chunks of up to 256 steps (no samples between): crossings at a
+// chunk's first and last step, several in one chunk, and escapes in the step right after a
+// crossing are recorded exactly as the reference records them.
+TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
+  for (double alpha : {0.9, -0.4}) {
+    const auto model = testing::suris(0.7, 0.3, alpha, 0.1);
+    const auto points = testing::box_points(2001, alpha > 0 ? 0.5 : 1.2, alpha > 0 ? 0.5 : 1.0);
+    RunPlan plan = plan_of(1000, 1000, alpha > 0 ? 1e8 : 10);
+    plan.track_invariants = false;
+    const auto make = [&] {
+      Observers o;
+      o.sections.push_back(section("q1both", Coordinate::q1, 0, false, 1000, points.size()));
+      return o;
+    };
+    const auto [ref, e0] = expect_every_path_equal(*model, points, plan, make,
+                                                   "alpha " + std::to_string(alpha));
+    const auto& pts = ref.sections[0].points;
+    ASSERT_FALSE(pts.empty());
+    bool first_of_chunk = false, last_of_chunk = false, twice_in_a_chunk = false,
+         escape_after = false;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      first_of_chunk |= pts[i].step % 256 == 1;
+      last_of_chunk |= pts[i].step % 256 == 0;
+      if (i > 0 && pts[i - 1].orbit == pts[i].orbit)
+        twice_in_a_chunk |= (pts[i - 1].step - 1) / 256 == (pts[i].step - 1) / 256;
+      escape_after |= e0.escape_step[static_cast<std::size_t>(pts[i].orbit)] == pts[i].step + 1;
+    }
+    EXPECT_TRUE(first_of_chunk && last_of_chunk && twice_in_a_chunk) << "alpha " << alpha;
+    if (alpha < 0) EXPECT_TRUE(escape_after) << "no orbit escapes right after a crossing";
+  }
+}
+
+TEST(Observers, SectionWithCapZeroCountsItsDensityOnlyOnEveryPath) {
+  const auto model = testing::suris();
+  const auto points = testing::box_points(1001, 0.5, 0.5);
+  const auto make = [&] {
+    Observers o;
+    o.sections.push_back(section("q1up", Coordinate::q1, 1, false, 0, points.size()));
+    return o;
+  };
+  const auto [ref, e0] = expect_every_path_equal(*model, points, plan_of(600, 50), make, "cap 0");
+  EXPECT_TRUE(ref.sections[0].points.empty());
+  EXPECT_GT(total(ref.sections[0].density), 1000);
+}
+
+// Two sections (one over a momentum plane, interpolated) and two densities at once; and five
+// sections, more than the chunks watch, checked step by step.
+TEST(Observers, SeveralSectionsAndDensitiesAtOnceAreBitIdenticalOnEveryPath) {
+  const auto model = testing::suris();
+  const auto points = testing::box_points(1001, 0.5, 0.5);
+  const auto two = [&] {
+    Observers o = observers(points.size(), 5);
+    o.sections.push_back(section("p2down", Coordinate::p2, -1, true, 5, points.size()));
+    return o;
+  };
+  const auto [ref, e0] = expect_every_path_equal(*model, points, plan_of(500, 10), two, "two");
+  EXPECT_FALSE(ref.sections[1].points.empty());
+  const auto five = [&] {
+    Observers o;
+    for (int i = 0; i < 5; ++i)
+      o.sections.push_back(section("s" + std::to_string(i), i % 2 ? Coordinate::q2 : Coordinate::q1,
+                                   i % 3 - 1, i == 4, 10, points.size()));
+    return o;
+  };
+  expect_every_path_equal(*model, points, plan_of(300, 300), five, "five");
 }
 
 // Without sections the runner steps in chunks up to the next sample: one step at stride 1,

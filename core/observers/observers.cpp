@@ -53,22 +53,23 @@ bool Observers::sections_need_momentum() const {
 Observers Observers::empty_copy() const {
   Observers o;
   for (const auto& d : densities) o.densities.push_back({d.histogram.empty_copy(), d.coordinates});
-  for (const auto& s : sections) {
-    Section copy = s;
-    copy.density = s.density.empty_copy();
-    copy.points.clear();
-    o.sections.push_back(std::move(copy));
-  }
+  for (const auto& s : sections)  // the points are not copied
+    o.sections.push_back({s.name, s.plane, s.value, s.direction, s.linear, s.x, s.y, s.cap,
+                          s.density.empty_copy(), {}, s.kept});
   return o;
 }
 
-void Observers::merge(const Observers& partial) {
+void Observers::merge(Observers&& partial) {
   for (std::size_t i = 0; i < densities.size(); ++i)
     densities[i].histogram.merge(partial.densities[i].histogram);
   for (std::size_t i = 0; i < sections.size(); ++i) {
     sections[i].density.merge(partial.sections[i].density);
-    sections[i].points.insert(sections[i].points.end(), partial.sections[i].points.begin(),
-                              partial.sections[i].points.end());
+    auto& mine = sections[i].points;
+    auto& theirs = partial.sections[i].points;
+    if (mine.empty())
+      mine.swap(theirs);  // the first partial's points are taken, not copied
+    else
+      mine.insert(mine.end(), theirs.begin(), theirs.end());
   }
 }
 

@@ -59,7 +59,7 @@ struct Observers {
   bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
   bool sections_need_momentum() const;
   Observers empty_copy() const;
-  void merge(const Observers& partial);
+  void merge(Observers&& partial);  // takes the partial's points
   void finish();  // flushes the histograms' pending tallies, sorts section points by (orbit, step)
 };
 

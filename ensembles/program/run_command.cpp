@@ -157,7 +157,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     const double t = progress.seconds();
     Observers part = blank.empty_copy();
     r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
-    r.observers.merge(part);
+    r.observers.merge(std::move(part));
     const double took = progress.seconds() - t;
     progress.update(e.step);
     if (e.step == r.plan.total) break;
