@@ -130,6 +130,24 @@ template <class Map, class V, int K>
         else
           Map::step(c, w[k]);
       }
+  } else if (watch.count == 1) {  // one section: its plane's values stay in registers
+    const Section& section = *watch.sections[0];
+    V previous[K];
+    for (int k = 0; k < K; ++k) previous[k] = Watch<Map, V>::plane(c, w[k], section.plane);
+    for (long long j = 0; j < steps; ++j)
+      for (int k = 0; k < K; ++k) {
+        const auto before = w[k];
+        acc = acc + Map::escape_measure(w[k]);
+        if constexpr (Map::reports_faults)
+          faults = faults + Map::step(c, w[k]);
+        else
+          Map::step(c, w[k]);
+        const V now = Watch<Map, V>::plane(c, w[k], section.plane);
+        const auto crossing = crosses(section, previous[k], now) & alive[k];
+        if (ops::any(crossing)) [[unlikely]]
+          watch.crossings->push_back({before, w[k], crossing, first + j + 1, k, 0});
+        previous[k] = now;
+      }
   } else {
     V previous[K][max_watched];
     for (int k = 0; k < K; ++k)
