@@ -2,7 +2,8 @@
 // invariants tracked; each iteration writes the whole file (attributes, initial and final phase
 // points, final state, invariants, drift histograms, escapes) under a temporary name and renames
 // it, as `qmaps run` does. bytes_per_second is the file's size written per second;
-// bytes_per_orbit the file's size over the orbits.
+// bytes_per_orbit the file's size over the orbits. gzip: 0 (the default, contiguous and
+// uncompressed) or the level of [output] compression = "gzip".
 //   build/bench/io_bench [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
 // The file goes to $TMPDIR (or /tmp) and is removed afterwards.
 #include <benchmark/benchmark.h>
@@ -25,6 +26,7 @@ namespace {
 
 void write_file(benchmark::State& state) {
   const auto orbits = static_cast<std::size_t>(state.range(0));
+  const int gzip = static_cast<int>(state.range(1));
   const auto model = make_model("suris", suris_params);
   const Box box({{{-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}, {-0.5, 0.5}}}, 1, orbits);
   const auto initial = generate(box).points;
@@ -41,6 +43,7 @@ void write_file(benchmark::State& state) {
   for (auto _ : state) {
     h5::AtomicFile output(path.string());
     auto file = output.create_hdf5();
+    file.compress(gzip);
     const auto initial_group = file.root().create_group("initial");
     create_phase(initial_group, orbits);
     write_phase_part(initial_group, 0, initial);
@@ -56,13 +59,15 @@ void write_file(benchmark::State& state) {
   state.SetLabel("suris/hdf5");
   state.counters["orbits"] = static_cast<double>(orbits);
   state.counters["bytes_per_orbit"] = static_cast<double>(bytes) / static_cast<double>(orbits);
+  state.counters["gzip"] = gzip;
 }
 
 const bool registered = [] {
   const long orbits = bench_size().name == "full" ? 1000000 : bench_size().simd_orbits;
   benchmark::RegisterBenchmark("io/write_run", write_file)
-      ->ArgNames({"orbits"})
-      ->Arg(orbits)
+      ->ArgNames({"orbits", "gzip"})
+      ->Args({orbits, 0})
+      ->Args({orbits, 4})
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime();
   return true;

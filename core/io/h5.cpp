@@ -1,5 +1,7 @@
 #include "core/io/h5.hpp"
 
+#include <algorithm>
+
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -30,14 +32,32 @@ void checked(herr_t status, const std::string& what, int) {
   if (status < 0) throw failure(what);
 }
 
+// How a dataset of shape `dims` is stored: contiguous (deflate 0), or in chunks of at most 2^16
+// elements along the first axis, shuffled and gzip-compressed at level `deflate`.
+Handle creation_properties(std::span<const hsize_t> dims, int deflate) {
+  Handle plist(checked(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose);
+  hsize_t elements = 1;
+  for (hsize_t d : dims) elements *= d;
+  if (deflate > 0 && elements > 0) {
+    std::vector<hsize_t> chunk(dims.begin(), dims.end());
+    const hsize_t row = elements / dims[0];
+    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 16) / std::max<hsize_t>(row, 1)));
+    checked(H5Pset_chunk(plist.id(), static_cast<int>(chunk.size()), chunk.data()), "chunks", 0);
+    checked(H5Pset_shuffle(plist.id()), "shuffle filter", 0);
+    checked(H5Pset_deflate(plist.id(), static_cast<unsigned>(deflate)), "gzip filter", 0);
+  }
+  return plist;
+}
+
 template <class T>
 void write_nd(hid_t parent, const std::string& where, const std::string& name, hid_t type,
-              std::span<const T> data, std::span<const hsize_t> dims) {
+              std::span<const T> data, std::span<const hsize_t> dims, int deflate) {
   Handle space(checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                        "dataspace"),
                H5Sclose);
-  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT, H5P_DEFAULT,
-                                H5P_DEFAULT),
+  const Handle properties = creation_properties(dims, deflate);
+  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT,
+                                properties.id(), H5P_DEFAULT),
                      "cannot create dataset " + where + "/" + name),
              H5Dclose);
   if (!data.empty())
@@ -47,9 +67,9 @@ void write_nd(hid_t parent, const std::string& where, const std::string& name, h
 
 template <class T>
 void write_1d(hid_t parent, const std::string& where, const std::string& name, hid_t type,
-              std::span<const T> data) {
+              std::span<const T> data, int deflate) {
   const hsize_t dims[1] = {data.size()};
-  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims));
+  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims), deflate);
 }
 
 template <class T>
@@ -131,7 +151,7 @@ Group Group::create_group(const std::string& name) const {
                                          H5P_DEFAULT),
                               "cannot create group " + path_ + "/" + name),
                       H5Gclose),
-               path_ == "/" ? "/" + name : path_ + "/" + name);
+               path_ == "/" ? "/" + name : path_ + "/" + name, deflate_);
 }
 
 Group Group::open_group(const std::string& name) const {
@@ -156,17 +176,17 @@ std::vector<std::string> Group::members() const {
 }
 
 void Group::write(const std::string& name, std::span<const double> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_DOUBLE, data);
+  write_1d(id(), path_, name, H5T_NATIVE_DOUBLE, data, deflate_);
 }
 void Group::write(const std::string& name, std::span<const std::int64_t> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_INT64, data);
+  write_1d(id(), path_, name, H5T_NATIVE_INT64, data, deflate_);
 }
 void Group::write(const std::string& name, std::span<const std::uint8_t> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_UINT8, data);
+  write_1d(id(), path_, name, H5T_NATIVE_UINT8, data, deflate_);
 }
 void Group::write(const std::string& name, std::span<const std::int64_t> data,
                   std::span<const hsize_t> dims) const {
-  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims);
+  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims, deflate_);
 }
 
 std::vector<hsize_t> Group::shape(const std::string& name) const {
@@ -182,7 +202,7 @@ template <class T>
 void Group::create_column(const std::string& name, std::size_t n) const {
   const hsize_t dims[1] = {n};
   write_nd(id(), path_, name, native_type<T>(), std::span<const T>(),
-           std::span<const hsize_t>(dims));
+           std::span<const hsize_t>(dims), deflate_);
 }
 
 template <class T>
@@ -299,7 +319,7 @@ File File::open_read(const std::string& path) {
 Group File::root() const {
   return Group(Handle(checked(H5Gopen2(h_.id(), "/", H5P_DEFAULT), "root group of " + path_),
                       H5Gclose),
-               "/");
+               "/", deflate_);
 }
 
 AtomicFile::AtomicFile(std::string path)

@@ -31,7 +31,10 @@ class Handle {
 // A group (or the file's root group) and what qmaps writes into and reads from it.
 class Group {
  public:
-  Group(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
+  // `deflate`: the gzip level (1-9) of the datasets written here and in groups created from
+  // here, chunked and shuffled; 0: contiguous and uncompressed.
+  Group(Handle h, std::string path, int deflate = 0)
+      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate) {}
   Group create_group(const std::string& name) const;
   Group open_group(const std::string& name) const;
   bool has(const std::string& name) const;
@@ -72,6 +75,7 @@ class Group {
  private:
   Handle h_;
   std::string path_;
+  int deflate_ = 0;
 };
 
 class File {
@@ -79,6 +83,8 @@ class File {
   static File create(const std::string& path);     // truncates
   static File open_read(const std::string& path);
   Group root() const;
+  // Datasets written from root() on are gzip-compressed at this level (1-9; 0: none).
+  void compress(int level) { deflate_ = level; }
   void close() { h_.reset(); }
   const std::string& path() const { return path_; }
 
@@ -87,6 +93,7 @@ class File {
   File(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
   Handle h_;
   std::string path_;
+  int deflate_ = 0;
 };
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without

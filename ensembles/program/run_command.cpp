@@ -64,6 +64,7 @@ struct Run {
   Execution x;
   long long checkpoint_every = 0;  // 0: only when interrupted
   bool per_orbit = true;
+  int deflate = 0;  // [output] compression: the gzip level, 0 for none
   Observers observers;
   std::optional<InvariantImage> image;
   std::string path;  // the output file
@@ -107,6 +108,20 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.path = config.string("output", "file");
   if (r.path.empty()) throw usage_error(config.where("output", "file") + " must not be empty");
   r.per_orbit = config.boolean_or("output", "per_orbit", true);
+  const std::string compression = config.string_or("output", "compression", "none");
+  if (compression != "none" && compression != "gzip")
+    throw usage_error(config.where("output", "compression") + ": '" + compression +
+                      "' is not a compression (expected \"none\" or \"gzip\")");
+  if (compression == "gzip") {
+    const long long level = config.integer_or("output", "compression_level", 4);
+    if (level < 1 || level > 9)
+      throw usage_error(config.where("output", "compression_level") + " must be 1 to 9 (got " +
+                        std::to_string(level) + ")");
+    r.deflate = static_cast<int>(level);
+  } else if (config.has("output", "compression_level")) {
+    throw usage_error(config.where("output", "compression_level") +
+                      " needs compression = \"gzip\"");
+  }
   r.config_text = config.text();
   r.config_resolved = config.resolved();
   return r;
@@ -228,6 +243,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
 
     h5::AtomicFile output(r.path);
     auto file = output.create_hdf5();
+    file.compress(r.deflate);
     Ensemble e = r.model->ensemble(r.orbits);
     read_ensemble(root, *r.model, e);
     if (e.step < 0 || e.step >= r.plan.total)
@@ -268,6 +284,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
 
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5();  // fails now, not after the run
+  file.compress(r.deflate);
 
   // The orbits start by parts; /initial is written as they do, and no full copy is kept.
   Ensemble e = r.model->ensemble(r.orbits);
