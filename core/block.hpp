@@ -118,36 +118,19 @@ template <class Map, class V, int K>
   typename Map::template State<V> w[K];
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
+  const auto advance = [&](int k) {  // one step of chain k, its escape measure summed before it
+    acc = acc + Map::escape_measure(w[k]);
+    if constexpr (Map::reports_faults)
+      faults = faults + Map::step(c, w[k]);
+    else
+      Map::step(c, w[k]);
+  };
   if (watch.count == 0) {
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
 #pragma GCC unroll 2
     for (long long j = 0; j < steps; ++j)
-      for (int k = 0; k < K; ++k) {
-        acc = acc + Map::escape_measure(w[k]);
-        if constexpr (Map::reports_faults)
-          faults = faults + Map::step(c, w[k]);
-        else
-          Map::step(c, w[k]);
-      }
-  } else if (watch.count == 1) {  // one section: its plane's values stay in registers
-    const Section& section = *watch.sections[0];
-    V previous[K];
-    for (int k = 0; k < K; ++k) previous[k] = Watch<Map, V>::plane(c, w[k], section.plane);
-    for (long long j = 0; j < steps; ++j)
-      for (int k = 0; k < K; ++k) {
-        const auto before = w[k];
-        acc = acc + Map::escape_measure(w[k]);
-        if constexpr (Map::reports_faults)
-          faults = faults + Map::step(c, w[k]);
-        else
-          Map::step(c, w[k]);
-        const V now = Watch<Map, V>::plane(c, w[k], section.plane);
-        const auto crossing = crosses(section, previous[k], now) & alive[k];
-        if (ops::any(crossing)) [[unlikely]]
-          watch.crossings->push_back({before, w[k], crossing, first + j + 1, k, 0});
-        previous[k] = now;
-      }
+      for (int k = 0; k < K; ++k) advance(k);
   } else {
     V previous[K][max_watched];
     for (int k = 0; k < K; ++k)
@@ -156,11 +139,7 @@ template <class Map, class V, int K>
     for (long long j = 0; j < steps; ++j)
       for (int k = 0; k < K; ++k) {
         const auto before = w[k];
-        acc = acc + Map::escape_measure(w[k]);
-        if constexpr (Map::reports_faults)
-          faults = faults + Map::step(c, w[k]);
-        else
-          Map::step(c, w[k]);
+        advance(k);
         for (std::size_t i = 0; i < watch.count; ++i) {
           const V now = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
           const auto crossing = crosses(*watch.sections[i], previous[k][i], now) & alive[k];
