@@ -26,7 +26,7 @@
 //   time_per_orbit                true when each orbit keeps its own clock in its state; then
 //   clock<V>(s)                   the orbit's physical time
 //   reports_faults                true when step solves an equation and returns fault codes
-//   facts                         MapFacts: its example parameters, tolerances, preset and docs
+//   facts                         MapFacts: its example parameters, tolerances and preset
 #include <array>
 #include <concepts>
 #include <span>
@@ -66,7 +66,6 @@ struct MapFacts {
   double reversal_tolerance;  // max |error| after 1000 steps forward and 1000 back
   double drift_tolerance;     // max |I_n − I_0| / mean |I_0| over 10⁵ steps, every invariant
   std::string_view preset;    // ensembles/presets/<preset>.toml
-  std::string_view docs;      // its heading in docs/maps.md, e.g. "## 3. `suris`"
   bool slow;                  // solves an equation or evaluates many forces per step
 };
 

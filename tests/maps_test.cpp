@@ -55,8 +55,10 @@ TEST(Maps, EveryMapHasASectionOfDocsMaps) {
   for (std::string line; std::getline(lines, line);)
     if (line.rfind("## ", 0) == 0) headings.insert(line);
   for (const MapEntry& m : catalogue()) {
+    std::string quoted = "`";
+    quoted.append(m.name).append("`");
     bool found = false;
-    for (const auto& h : headings) found |= h.find("`" + std::string(m.name) + "`") != std::string::npos;
+    for (const auto& h : headings) found |= h.find(quoted) != std::string::npos;
     EXPECT_TRUE(found) << m.name << ": no heading of docs/maps.md names `" << m.name << "`";
   }
 }

@@ -162,7 +162,9 @@ TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
       escape_after |= e0.escape_step[static_cast<std::size_t>(pts[i].orbit)] == pts[i].step + 1;
     }
     EXPECT_TRUE(first_of_chunk && last_of_chunk && twice_in_a_chunk) << "alpha " << alpha;
-    if (alpha < 0) EXPECT_TRUE(escape_after) << "no orbit escapes right after a crossing";
+    if (alpha < 0) {
+      EXPECT_TRUE(escape_after) << "no orbit escapes right after a crossing";
+    }
   }
 }
 
@@ -194,7 +196,8 @@ TEST(Observers, SeveralSectionsAndDensitiesAtOnceAreBitIdenticalOnEveryPath) {
   const auto five = [&] {
     Observers o;
     for (int i = 0; i < 5; ++i)
-      o.sections.push_back(section("s" + std::to_string(i), i % 2 ? Coordinate::q2 : Coordinate::q1,
+      o.sections.push_back(section(std::string(1, static_cast<char>('a' + i)),
+                                   i % 2 ? Coordinate::q2 : Coordinate::q1,
                                    i % 3 - 1, i == 4, 10, points.size()));
     return o;
   };
