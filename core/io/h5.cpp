@@ -308,6 +308,16 @@ File File::create(const std::string& path) {
   return File(Handle(id, H5Fclose), path);
 }
 
+void File::close() {
+  const hid_t id = h_.release();
+  errno = 0;
+  if (id >= 0 && H5Fclose(id) < 0) {
+    const int err = errno;
+    throw Error(ExitCode::io, "cannot complete '" + path_ + "'" +
+                                  (err ? std::string(": ") + std::strerror(err) : std::string()));
+  }
+}
+
 File File::open_read(const std::string& path) {
   if (access(path.c_str(), R_OK) != 0)
     throw Error(ExitCode::io, "cannot read '" + path + "': " + std::strerror(errno));

@@ -22,6 +22,11 @@ class Handle {
   ~Handle() { reset(); }
   hid_t id() const { return id_; }
   void reset();
+  hid_t release() {  // gives up the id without closing it
+    const hid_t id = id_;
+    id_ = H5I_INVALID_HID;
+    return id;
+  }
 
  private:
   hid_t id_ = H5I_INVALID_HID;
@@ -85,7 +90,9 @@ class File {
   Group root() const;
   // Datasets written from root() on are gzip-compressed at this level (1-9; 0: none).
   void compress(int level) { deflate_ = level; }
-  void close() { h_.reset(); }
+  // Closes the file, flushing it: a failure (a full disk, a file-size limit) is an io error
+  // naming the file, so that an incomplete file is never committed.
+  void close();
   const std::string& path() const { return path_; }
 
  private:

@@ -11,10 +11,20 @@ namespace {
 
 volatile std::sig_atomic_t received = 0;
 
-extern "C" void on_signal(int sig) { received = sig; }
+// The first signal asks the run to stop; a second one, of any of the three, ends the process
+// at once with that signal's default action.
+extern "C" void on_signal(int sig) {
+  if (received == 0) {
+    received = sig;
+    return;
+  }
+  std::signal(sig, SIG_DFL);
+  std::raise(sig);
+}
 
-constexpr int signals[2] = {SIGINT, SIGTERM};
-struct sigaction previous[2];
+// SIGHUP (a dropped terminal or ssh session) stops the run as SIGTERM does.
+constexpr int signals[3] = {SIGINT, SIGTERM, SIGHUP};
+struct sigaction previous[3];
 
 }  // namespace
 
@@ -23,16 +33,19 @@ InterruptGuard::InterruptGuard() {
   struct sigaction action {};
   action.sa_handler = on_signal;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;  // the second signal takes its default action: the end
-  for (int k = 0; k < 2; ++k) sigaction(signals[k], &action, &previous[k]);
+  for (int k = 0; k < 3; ++k) sigaction(signals[k], &action, &previous[k]);
 }
 
 InterruptGuard::~InterruptGuard() {
-  for (int k = 0; k < 2; ++k) sigaction(signals[k], &previous[k], nullptr);
+  for (int k = 0; k < 3; ++k) sigaction(signals[k], &previous[k], nullptr);
 }
 
 bool InterruptGuard::requested() const { return received != 0; }
 int InterruptGuard::signal() const { return received; }
+
+const char* signal_name(int sig) {
+  return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
+}
 
 SelfSignal SelfSignal::from_environment() {
   SelfSignal s;
@@ -41,7 +54,11 @@ SelfSignal SelfSignal::from_environment() {
   const std::string text(value);
   const auto colon = text.find(':');
   const std::string name = colon == std::string::npos ? "" : text.substr(colon + 1);
-  s.signal_ = name == "INT" ? SIGINT : name == "TERM" ? SIGTERM : name == "KILL" ? SIGKILL : 0;
+  s.signal_ = name == "INT"    ? SIGINT
+              : name == "TERM" ? SIGTERM
+              : name == "HUP"  ? SIGHUP
+              : name == "KILL" ? SIGKILL
+                               : 0;
   std::size_t used = 0;
   try {
     s.step_ = std::stoll(text.substr(0, colon), &used);
@@ -50,7 +67,7 @@ SelfSignal SelfSignal::from_environment() {
   }
   if (s.signal_ == 0 || used != colon || s.step_ < 1)
     throw usage_error("QMAPS_SIGNAL_AT_STEP='" + text +
-                      "': expected STEP:INT, STEP:TERM or STEP:KILL with STEP >= 1");
+                      "': expected STEP:INT, STEP:TERM, STEP:HUP or STEP:KILL with STEP >= 1");
   return s;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
-// SIGINT and SIGTERM during a run: the handler only sets a flag, which the run reads between
-// segments (where it writes a checkpoint and stops). A second signal ends the process at once.
+// SIGINT, SIGTERM and SIGHUP during a run: the handler only records the first, which the run
+// reads between segments (where it writes a checkpoint and stops). A second signal ends the
+// process at once.
 namespace qmaps {
 
 class InterruptGuard {
@@ -13,8 +14,10 @@ class InterruptGuard {
   int signal() const;      // which one (0: none)
 };
 
+const char* signal_name(int sig);  // "SIGINT", "SIGTERM", "SIGHUP"
+
 // A signal the run sends itself on reaching a step, so that an interruption can be reproduced
-// exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM or KILL), see docs/cli.md.
+// exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM, HUP or KILL), see docs/cli.md.
 class SelfSignal {
  public:
   static SelfSignal from_environment();  // none when unset; a malformed value is a usage error

@@ -1,5 +1,8 @@
 // qmaps: ensembles of orbits of the integrable maps of H = |p|²/2 + A q1² + B q2² + α q1⁴ + β q2⁴
 // + δ q1² q2², advanced in SIMD across millions of initial conditions. See `qmaps --help`.
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
@@ -10,6 +13,8 @@
 #include "ensembles/program/commands.hpp"
 
 int main(int argc, char** argv) {
+  // A file-size limit makes a write fail (an io error, exit 3) instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"qmaps: ensembles of orbits of integrable maps of a quartic-potential Hamiltonian"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("qmaps ") + qmaps::build::version + " (" +
@@ -81,6 +86,13 @@ int main(int argc, char** argv) {
     return qmaps::list_command(std::cout);
   } catch (const qmaps::Error& e) {
     std::cerr << "qmaps: error: " << e.what() << '\n';
+    if (e.code() == qmaps::ExitCode::io) {
+      // A file whose close failed (a full disk) stays open inside HDF5, whose exit handler would
+      // then fail on it: the outputs are settled by now (no temporary is left), so end here.
+      std::cout.flush();
+      std::fflush(nullptr);
+      std::_Exit(static_cast<int>(e.code()));
+    }
     return static_cast<int>(e.code());
   } catch (const std::exception& e) {
     std::cerr << "qmaps: error: " << e.what() << '\n';

@@ -1,8 +1,10 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <optional>
 #include <ostream>
 
@@ -138,6 +140,21 @@ RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                    &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected};
 }
 
+// Runs `write`, which writes the file at `path`; an io failure there names the file and, where
+// the system said why (no space left on device, file too large), the reason.
+template <class Write>
+void naming_failures(const std::string& path, Write write) {
+  try {
+    errno = 0;
+    write();
+  } catch (const Error& failure) {
+    if (failure.code() != ExitCode::io) throw;
+    const int err = errno;
+    throw Error(ExitCode::io, "cannot write '" + path + "': " + failure.what() +
+                                  (err ? std::string(" (") + std::strerror(err) + ")" : ""));
+  }
+}
+
 // Advances the ensemble to the last step in segments (exact: a segmented run equals one call),
 // writing a checkpoint every `checkpoint_every` steps and, on SIGINT or SIGTERM, one before it
 // stops; then writes the output file and removes the checkpoint.
@@ -149,9 +166,11 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   const auto initial = r.per_orbit ? std::optional(file.root().open_group("initial")) : std::nullopt;
   const auto save = [&] {
     r.observers.finish();
-    write_checkpoint(checkpoint,
-                     record_of(r, e, first, session_started, utc_now(), options.command_line),
-                     initial ? &*initial : nullptr);
+    naming_failures(checkpoint, [&] {
+      write_checkpoint(checkpoint,
+                       record_of(r, e, first, session_started, utc_now(), options.command_line),
+                       initial ? &*initial : nullptr);
+    });
   };
 
   SelfSignal self_signal = SelfSignal::from_environment();
@@ -180,7 +199,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     if (interrupt.requested()) {
       save();
       progress.end();
-      log << "qmaps: " << (interrupt.signal() == SIGINT ? "SIGINT" : "SIGTERM") << " at step "
+      log << "qmaps: " << signal_name(interrupt.signal()) << " at step "
           << e.step << " of " << r.plan.total << ": checkpoint written to " << checkpoint
           << "; continue with: qmaps run --resume " << checkpoint << '\n';
       return static_cast<int>(ExitCode::interrupted);
@@ -193,8 +212,11 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   const double seconds = progress.seconds();
 
   r.observers.finish();
-  write_run(file.root(), record_of(r, e, first, session_started, utc_now(), options.command_line));
-  file.close();
+  naming_failures(r.path, [&] {  // an incomplete file is never committed
+    write_run(file.root(),
+              record_of(r, e, first, session_started, utc_now(), options.command_line));
+    file.close();
+  });
   output.commit();
   std::remove(checkpoint.c_str());
 

@@ -1,0 +1,64 @@
+"""Faults while a run writes: a file-size limit (as a full disk) fails the write of the output or
+of a checkpoint with exit 3 and a message naming the file and the reason, and leaves neither the
+file nor its temporary; SIGHUP
+(a dropped session) stops the run with a checkpoint as SIGTERM does, and the run resumes."""
+import os
+import pathlib
+import resource
+import subprocess
+import sys
+import tempfile
+import unittest
+
+import small_run
+
+
+def run(directory, *args, env=None, fsize=None):
+    def limit():
+        if fsize is not None:
+            resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+    return subprocess.run([str(small_run.BINARY), *args], capture_output=True, text=True,
+                          cwd=directory, env={**os.environ, **(env or {})}, preexec_fn=limit)
+
+
+class Faults(unittest.TestCase):
+    def config(self, directory, orbits, steps):
+        config = pathlib.Path(directory) / "config.toml"
+        config.write_text(small_run.PRESET.read_text())
+        return ["run", str(config), "--set", f"ensemble.orbits={orbits}", "--set",
+                f"run.steps={steps}", "--out", "out.h5", "--quiet"]
+
+    def test_file_size_limit_fails_cleanly_and_leaves_nothing(self):
+        with tempfile.TemporaryDirectory() as d:
+            r = run(d, *self.config(d, 20000, 20), fsize=1 << 20)
+            self.assertEqual(r.returncode, 3, r.stderr)
+            self.assertIn("cannot write 'out.h5'", r.stderr)
+            self.assertIn("File too large", r.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
+
+    def test_file_size_limit_on_a_checkpoint_fails_cleanly_and_leaves_nothing(self):
+        with tempfile.TemporaryDirectory() as d:
+            args = self.config(d, 20000, 40) + ["--set", "run.checkpoint_every=10"]
+            r = run(d, *args, fsize=1 << 20)
+            self.assertEqual(r.returncode, 3, r.stderr)
+            self.assertIn("cannot write 'out.h5.ckpt'", r.stderr)
+            self.assertIn("File too large", r.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
+
+    def test_sighup_checkpoints_like_sigterm_and_the_run_resumes(self):
+        with tempfile.TemporaryDirectory() as d:
+            args = self.config(d, 2000, 300) + ["--set", "run.checkpoint_every=100"]
+            r = run(d, *args, env={"QMAPS_SIGNAL_AT_STEP": "100:HUP"})
+            self.assertEqual(r.returncode, 5, r.stderr)
+            self.assertIn("SIGHUP at step 100 of 300", r.stderr)
+            names = sorted(p.name for p in pathlib.Path(d).iterdir())
+            self.assertEqual(names, ["config.toml", "out.h5.ckpt"])
+            r = run(d, "run", "--resume", "out.h5.ckpt", "--quiet")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertTrue((pathlib.Path(d) / "out.h5").is_file())
+            self.assertFalse((pathlib.Path(d) / "out.h5.ckpt").exists())
+
+
+if __name__ == "__main__":
+    result = unittest.main(exit=False, verbosity=2).result
+    sys.exit(0 if result.wasSuccessful() else 1)
