@@ -1,6 +1,9 @@
 #include "core/params.hpp"
 
+#include <cmath>
+#include <limits>
 #include <sstream>
+#include <string>
 
 #include "core/error.hpp"
 
@@ -38,6 +41,21 @@ std::vector<double> resolve_params(std::string_view map, std::span<const ParamSp
     values.push_back(v);
   }
   return values;
+}
+
+void check_step(std::string_view map, std::string_view name, double step) {
+  const std::string who = std::string(map) + ": " + std::string(name);
+  if (!(step > 0)) throw usage_error(who + " must be > 0 (got " + number_text(step) + ")");
+  const double smallest = std::sqrt(std::numeric_limits<double>::min());
+  const double largest = std::sqrt(std::numeric_limits<double>::max());
+  if (!(step * step >= std::numeric_limits<double>::min()))
+    throw usage_error(who + " = " + number_text(step) + " is too small: " + std::string(name) +
+                      "^2 must be a normal number (" + std::string(name) +
+                      " >= " + number_text(smallest) + ")");
+  if (!(step < largest))
+    throw usage_error(who + " = " + number_text(step) + " is too large: " + std::string(name) +
+                      "^2 must be finite (" + std::string(name) + " < " + number_text(largest) +
+                      ")");
 }
 
 }  // namespace qmaps

@@ -26,4 +26,9 @@ using ParamValues = std::map<std::string, double, std::less<>>;
 std::vector<double> resolve_params(std::string_view map, std::span<const ParamSpec> specs,
                                    const ParamValues& given);
 
+// A map's step `name` (h, ds): > 0, and its square a normal, finite number, so that the
+// coefficients built from it (1/h², 2αh², …) are finite and every invariant is a number; else a
+// usage error naming the map, the parameter and the limit.
+void check_step(std::string_view map, std::string_view name, double step);
+
 }  // namespace qmaps

@@ -133,7 +133,7 @@ struct Case2 : TwoStep<Case2> {
   static Coeffs make(std::string_view map, std::span<const double> p) {
     const double A = p[0], alpha = p[1], h = p[2];
     const std::string who(map);
-    if (!(h > 0)) throw usage_error(who + ": h must be > 0 (got " + number_text(h) + ")");
+    check_step(who, "h", h);
     const double h2 = h * h, a = 1 - A * h2;
     if (a == 0) throw usage_error(who + ": 1 - A h^2 = 0: the map degenerates (A h^2 = 1)");
     return {A, alpha, h, 2 * a, 2 * alpha * h2, 2 - 2 * a, 1 / (2 * h2)};

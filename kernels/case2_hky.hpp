@@ -88,7 +88,7 @@ struct Case2Hky : TwoStep<Case2Hky> {
 
   static Coeffs coefficients(std::span<const double> p) {
     const double A = p[0], alpha = p[1], h = p[2];
-    if (!(h > 0)) throw usage_error("case2-hky: h must be > 0 (got " + number_text(h) + ")");
+    check_step(name, "h", h);
     const double h2 = h * h;
     double c11 = p[3], c12 = p[4], c21 = p[5], c22 = p[6];
     const double gamma11 = p[7], gamma21 = p[8];

@@ -69,7 +69,7 @@ struct Case3 {
 
   static Coeffs coefficients(std::span<const double> p) {
     const double A = p[0], alpha = p[1], ds = p[2], order = p[3];
-    if (!(ds > 0)) throw usage_error("case3: ds must be > 0 (got " + number_text(ds) + ")");
+    check_step(name, "ds", ds);
     if (order != 1 && order != 2)
       throw usage_error("case3: t_order must be 1 (left point) or 2 (trapezoid), got " +
                         number_text(order));

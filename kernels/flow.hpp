@@ -165,8 +165,7 @@ struct SplitFlow {
   static Coeffs make(std::string_view map, std::span<const double> p, int order) {
     Coeffs c{};
     c.A = p[0], c.B = p[1], c.alpha = p[2], c.beta = p[3], c.delta = p[4], c.h = p[5];
-    if (!(c.h > 0))
-      throw usage_error(std::string(map) + ": h must be > 0 (got " + number_text(c.h) + ")");
+    check_step(map, "h", c.h);
     const std::span<const double> w = order == 4 ? std::span<const double>(yoshida4)
                                       : order == 6 ? yoshida6
                                       : order == 8 ? yoshida8 : std::span<const double>();

@@ -68,7 +68,7 @@ struct Suris : TwoStep<Suris> {
 
   static Coeffs coefficients(std::span<const double> p) {
     const double A = p[0], B = p[1], alpha = p[2], h = p[3];
-    if (!(h > 0)) throw usage_error("suris: h must be > 0 (got " + number_text(h) + ")");
+    check_step(name, "h", h);
     const double h2 = h * h, a = 1 - A * h2, b = 1 - B * h2;  // a, b: exact halves of 2a, 2b
     if (a == 0) throw usage_error("suris: 1 - A h^2 = 0: the map degenerates (A h^2 = 1)");
     if (b == 0) throw usage_error("suris: 1 - B h^2 = 0: the map degenerates (B h^2 = 1)");

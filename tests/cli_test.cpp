@@ -157,6 +157,30 @@ TEST_F(Cli, UnknownConfigKeyNamesItsLine) {
       {"cfg.toml:" + std::to_string(line_of(text, "stepz")) + ": [run] stepz: unknown key"});
 }
 
+// A misspelt required key is named as the unknown key it is, with its line, before the key it
+// stands for is reported missing.
+TEST_F(Cli, MisspeltRequiredKeyIsNamedBeforeTheMissingOne) {
+  const std::string text = with_line(config, "steps = ", "stpes = 50");
+  expect_rejected(run_config(text), 2,
+                  {"cfg.toml:" + std::to_string(line_of(text, "stpes")) +
+                   ": [run] unknown key 'stpes' (did you mean 'steps'?)"});
+}
+
+TEST_F(Cli, SetTakesBlanksAroundNameAndValue) {
+  const Result r = run_config(config, {"--set", " run.steps = 20 "});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(Contains(r.err, "x 20 steps")) << r.err;
+}
+
+TEST_F(Cli, CheckRejectsABadEscapeBoundAndTooManyOrbits) {
+  const Result bound = run({"check", "--map", "suris", "--escape-bound", "-1"}, dir);
+  EXPECT_EQ(bound.status, 2);
+  EXPECT_TRUE(Contains(bound.err, "--escape-bound must be a finite number > 0 (got -1)"));
+  const Result many = run({"check", "--map", "suris", "--orbits", "100000000000"}, dir);
+  EXPECT_EQ(many.status, 2);
+  EXPECT_TRUE(Contains(many.err, "--orbits must be at most 10000000")) << many.err;
+}
+
 TEST_F(Cli, MalformedTomlNamesItsLine) {
   const std::string text = with_line(config, "B = ", "B = = 0.3");
   expect_rejected(run_config(text), 2,

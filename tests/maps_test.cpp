@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/error.hpp"
 #include "ensembles/config/config.hpp"
 #include "kernels/catalogue.hpp"
 #include "kernels/maps.hpp"
@@ -70,6 +71,26 @@ TEST(Maps, EveryExampleResolvesAndItsEscapingSetHasANegativeQuartic) {
     EXPECT_NO_THROW(m.make(escaping)) << m.name;
     EXPECT_LT(escaping.at("alpha"), 0) << m.name;
     EXPECT_TRUE(param_values(m.facts->example).count(std::string(m.facts->step))) << m.name;
+  }
+}
+
+// A step whose square is not a normal number would make the coefficients (1/h², …) infinite and
+// the invariants NaN while no orbit escapes: every map rejects it, naming the limit.
+TEST(Maps, EveryMapRejectsAStepWhoseSquareIsNotANormalNumber) {
+  for (const MapEntry& m : catalogue()) {
+    for (double step : {1e-300, 1e-320, 1e160}) {
+      ParamValues p = param_values(m.facts->example);
+      p[std::string(m.facts->step)] = step;
+      try {
+        m.make(p);
+        ADD_FAILURE() << m.name << " accepted " << m.facts->step << " = " << step;
+      } catch (const Error& e) {
+        EXPECT_EQ(e.code(), ExitCode::usage) << m.name;
+        EXPECT_NE(std::string(e.what()).find(step < 1 ? "is too small" : "is too large"),
+                  std::string::npos)
+            << e.what();
+      }
+    }
   }
 }
 

@@ -1,8 +1,10 @@
 #include "ensembles/config/config.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -23,6 +25,29 @@ std::string type_name(const toml::node& n) {
   if (n.is_array()) return "an array";
   if (n.is_table()) return "a table";
   return "a value";
+}
+
+// The Levenshtein distance of a and b, counting an adjacent swap as one edit.
+std::size_t edits(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i)
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1,
+                          d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1])
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  return d[a.size()][b.size()];
+}
+
+// Text without the blanks around it.
+std::string trimmed(std::string_view text) {
+  const auto first = text.find_first_not_of(" \t");
+  if (first == std::string_view::npos) return {};
+  const auto last = text.find_last_not_of(" \t");
+  return std::string(text.substr(first, last - first + 1));
 }
 
 }  // namespace
@@ -95,9 +120,12 @@ void Config::set(std::string_view assignment) {
   if (eq == std::string_view::npos || dot == std::string_view::npos || dot > eq || dot == 0 ||
       dot + 1 == eq)
     throw usage_error("--set expects section.key=value, got '" + std::string(assignment) + "'");
-  const std::string section(assignment.substr(0, dot));
-  const std::string key(assignment.substr(dot + 1, eq - dot - 1));
-  const std::string value(assignment.substr(eq + 1));
+  // "run.steps = 100" as "run.steps=100": the blanks around the names and the value go.
+  const std::string section = trimmed(assignment.substr(0, dot));
+  const std::string key = trimmed(assignment.substr(dot + 1, eq - dot - 1));
+  const std::string value = trimmed(assignment.substr(eq + 1));
+  if (section.empty() || key.empty())
+    throw usage_error("--set expects section.key=value, got '" + std::string(assignment) + "'");
   toml::table parsed;
   try {
     parsed = toml::parse("v = " + value);
@@ -151,10 +179,18 @@ const toml::node* Config::Document::find(const Config& c, std::string_view secti
 const toml::node& Config::Document::node(const Config& c, std::string_view section,
                                          std::string_view key) const {
   const auto* n = find(c, section, key);
-  if (!n)
-    throw usage_error(c.source_ + ": missing key '" + std::string(key) + "' in [" +
-                      std::string(section) + "]");
-  return *n;
+  if (n) return *n;
+  // A key of the section that no reader asked for, within two edits of the missing one (of 4
+  // letters or more), is named first: "stpes = 2000" is a misspelt key before a missing one.
+  if (const auto* s = section_table(section))
+    for (const auto& [other, value] : *s)
+      if (key.size() >= 4 && !c.used_.count(dotted(section, other.str())) &&
+          edits(other.str(), key) <= 2)
+        throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": [" +
+                          std::string(section) + "] unknown key '" + std::string(other.str()) +
+                          "' (did you mean '" + std::string(key) + "'?)");
+  throw usage_error(c.source_ + ": missing key '" + std::string(key) + "' in [" +
+                    std::string(section) + "]");
 }
 
 bool Config::has(std::string_view section, std::string_view key) const {

@@ -19,6 +19,8 @@
 namespace qmaps {
 namespace {
 
+constexpr long long max_check_orbits = 10000000;  // 10^7: about 2 GB of check's arrays
+
 // Parameters a check uses where the user gives none: the map's example (its MapFacts;
 // docs/maps.md §2). The example's optional parameters (case2-hky's weights) fill in only when
 // none of them is given.
@@ -51,6 +53,12 @@ std::string g(double x) {
 
 int check_command(const CheckOptions& o, std::ostream& out) {
   if (o.orbits <= 0) throw usage_error("--orbits must be > 0");
+  if (o.orbits > max_check_orbits)
+    throw usage_error("--orbits must be at most " + std::to_string(max_check_orbits) + " (got " +
+                      std::to_string(o.orbits) + "): check is a quick report; qmaps run takes more");
+  if (!(o.escape_bound > 0) || !std::isfinite(o.escape_bound))
+    throw usage_error("--escape-bound must be a finite number > 0 (got " +
+                      number_text(o.escape_bound) + ")");
   if (o.steps <= 0) throw usage_error("--steps must be > 0");
   if (o.seed < 0) throw usage_error("--seed must be >= 0");
   if (!(o.box > 0)) throw usage_error("--box must be > 0");
