@@ -42,8 +42,7 @@ void write_file(benchmark::State& state) {
   std::uintmax_t bytes = 0;
   for (auto _ : state) {
     h5::AtomicFile output(path.string());
-    auto file = output.create_hdf5();
-    file.compress(gzip);
+    auto file = output.create_hdf5(gzip);
     const auto initial_group = file.root().create_group("initial");
     create_phase(initial_group, orbits);
     write_phase_part(initial_group, 0, initial);

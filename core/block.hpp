@@ -209,8 +209,7 @@ template <class Map, class Arch, int K>
   }
   // Up to max_watched sections are watched inside the chunks; more are checked step by step.
   // One buffer per thread, kept across blocks: its capacity grows once, not per block.
-  thread_local std::vector<detail::Crossing<Map, V>> crossings;
-  crossings.clear();
+  thread_local std::vector<detail::Crossing<Map, V>> crossings;  // cleared before each chunk
   detail::Watch<Map, V> watch;
   if (sections && observers->sections.size() <= detail::max_watched) {
     for (const auto& section : observers->sections) watch.sections[watch.count++] = &section;
@@ -252,21 +251,10 @@ template <class Map, class Arch, int K>
   };
   // The crossings a clean chunk kept, recorded as check_sections records them.
   const auto record_crossings = [&] {
-    for (const auto& x : crossings) {
-      const auto b = lanes_of(node_values<Map>(c, x.before, section_momentum));
-      const auto a = lanes_of(node_values<Map>(c, x.after, section_momentum));
-      const auto lanes = ops::lanes_of(x.lanes);
-      for (std::size_t l = 0; l < W; ++l) {
-        if (!lanes[l]) continue;
-        double bl[5], al[5];
-        for (std::size_t i = 0; i < 5; ++i) {
-          bl[i] = b[i][l];
-          al[i] = a[i][l];
-        }
-        observers->sections[static_cast<std::size_t>(x.section)].record(
-            static_cast<std::int64_t>(first + x.chain * W + l), x.step, bl, al);
-      }
-    }
+    for (const auto& x : crossings)
+      record_lanes(observers->sections[static_cast<std::size_t>(x.section)], x.lanes,
+                   node_values<Map>(c, x.before, section_momentum),
+                   node_values<Map>(c, x.after, section_momentum), first + x.chain * W, x.step);
   };
 
   for (long long n = plan.first; n < plan.last;) {

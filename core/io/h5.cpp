@@ -41,7 +41,7 @@ Handle creation_properties(std::span<const hsize_t> dims, int deflate) {
   if (deflate > 0 && elements > 0) {
     std::vector<hsize_t> chunk(dims.begin(), dims.end());
     const hsize_t row = elements / dims[0];
-    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 16) / std::max<hsize_t>(row, 1)));
+    chunk[0] = std::max<hsize_t>(1, std::min<hsize_t>(dims[0], (hsize_t{1} << 16) / row));
     checked(H5Pset_chunk(plist.id(), static_cast<int>(chunk.size()), chunk.data()), "chunks", 0);
     checked(H5Pset_shuffle(plist.id()), "shuffle filter", 0);
     checked(H5Pset_deflate(plist.id(), static_cast<unsigned>(deflate)), "gzip filter", 0);
@@ -339,14 +339,14 @@ AtomicFile::AtomicFile(std::string path)
     throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
 }
 
-File AtomicFile::create_hdf5() const {
+File AtomicFile::create_hdf5(int deflate) const {
   const hid_t id = H5Fcreate(temporary_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (id < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
                                   (err ? std::string(": ") + std::strerror(err) : std::string()));
   }
-  return File(Handle(id, H5Fclose), temporary_);
+  return File(Handle(id, H5Fclose), temporary_, deflate);
 }
 
 AtomicFile::~AtomicFile() {

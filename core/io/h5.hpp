@@ -88,8 +88,6 @@ class File {
   static File create(const std::string& path);     // truncates
   static File open_read(const std::string& path);
   Group root() const;
-  // Datasets written from root() on are gzip-compressed at this level (1-9; 0: none).
-  void compress(int level) { deflate_ = level; }
   // Closes the file, flushing it: a failure (a full disk, a file-size limit) is an io error
   // naming the file, so that an incomplete file is never committed.
   void close();
@@ -97,10 +95,11 @@ class File {
 
  private:
   friend class AtomicFile;
-  File(Handle h, std::string path) : h_(std::move(h)), path_(std::move(path)) {}
+  File(Handle h, std::string path, int deflate = 0)
+      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate) {}
   Handle h_;
   std::string path_;
-  int deflate_ = 0;
+  int deflate_ = 0;  // the gzip level of the datasets written from root() on (0: none)
 };
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
@@ -109,7 +108,9 @@ class File {
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path);
-  File create_hdf5() const;  // the HDF5 file at the temporary; errors name <path>
+  // The HDF5 file at the temporary, its datasets gzip-compressed at level `deflate` (1-9; 0:
+  // none); errors name <path>.
+  File create_hdf5(int deflate = 0) const;
   AtomicFile(const AtomicFile&) = delete;
   AtomicFile& operator=(const AtomicFile&) = delete;
   ~AtomicFile();

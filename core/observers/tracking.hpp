@@ -99,6 +99,24 @@ ops::mask_t<V> crosses(const Section& section, V a, V b) {
   return section.direction > 0 ? up : section.direction < 0 ? down : up | down;
 }
 
+// Records, for each lane of `crossing`, the section's crossing by orbit first_orbit + lane at
+// `step`, from the coordinates of its nodes before and after.
+template <class V>
+void record_lanes(Section& section, ops::mask_t<V> crossing, const std::array<V, 5>& before,
+                  const std::array<V, 5>& after, std::size_t first_orbit, long long step) {
+  const auto lanes = ops::lanes_of(crossing);
+  const auto b = lanes_of(before), a = lanes_of(after);
+  for (std::size_t l = 0; l < lanes.size(); ++l) {
+    if (!lanes[l]) continue;
+    double bl[5], al[5];
+    for (std::size_t k = 0; k < 5; ++k) {
+      bl[k] = b[k][l];
+      al[k] = a[k][l];
+    }
+    section.record(static_cast<std::int64_t>(first_orbit + l), step, bl, al);
+  }
+}
+
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
 // (the state s) is recorded; `before` becomes node n + 1. Lanes are unpacked only on a crossing.
 // `momentum`: o.sections_need_momentum().
@@ -111,18 +129,7 @@ void check_sections(const typename Map::Coeffs& c, const typename Map::template 
   for (auto& section : o.sections) {
     const auto p = static_cast<std::size_t>(section.plane);
     const auto crossing = crosses(section, before[p], after[p]) & alive;
-    if (!ops::any(crossing)) continue;
-    const auto lanes = ops::lanes_of(crossing);
-    const auto b = lanes_of(before), a = lanes_of(after);
-    for (std::size_t l = 0; l < lanes.size(); ++l) {
-      if (!lanes[l]) continue;
-      double bl[5], al[5];
-      for (std::size_t k = 0; k < 5; ++k) {
-        bl[k] = b[k][l];
-        al[k] = a[k][l];
-      }
-      section.record(static_cast<std::int64_t>(first_orbit + l), step, bl, al);
-    }
+    if (ops::any(crossing)) record_lanes(section, crossing, before, after, first_orbit, step);
   }
   before = after;
 }

@@ -182,10 +182,10 @@ const toml::node& Config::Document::node(const Config& c, std::string_view secti
   if (n) return *n;
   // A key of the section that no reader asked for, within two edits of the missing one (of 4
   // letters or more), is named first: "stpes = 2000" is a misspelt key before a missing one.
-  if (const auto* s = section_table(section))
+  const auto* s = key.size() >= 4 ? section_table(section) : nullptr;
+  if (s)
     for (const auto& [other, value] : *s)
-      if (key.size() >= 4 && !c.used_.count(dotted(section, other.str())) &&
-          edits(other.str(), key) <= 2)
+      if (!c.used_.count(dotted(section, other.str())) && edits(other.str(), key) <= 2)
         throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": [" +
                           std::string(section) + "] unknown key '" + std::string(other.str()) +
                           "' (did you mean '" + std::string(key) + "'?)");

@@ -156,8 +156,8 @@ void naming_failures(const std::string& path, Write write) {
 }
 
 // Advances the ensemble to the last step in segments (exact: a segmented run equals one call),
-// writing a checkpoint every `checkpoint_every` steps and, on SIGINT or SIGTERM, one before it
-// stops; then writes the output file and removes the checkpoint.
+// writing a checkpoint every `checkpoint_every` steps and, on SIGINT, SIGTERM or SIGHUP, one
+// before it stops; then writes the output file and removes the checkpoint.
 int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
             const InterruptGuard& interrupt, const RunOptions& options, std::ostream& log) {
   const std::string session_started = r.sessions.empty() ? r.started : utc_now();
@@ -264,8 +264,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
     r.sessions = root.attr_string("sessions");
 
     h5::AtomicFile output(r.path);
-    auto file = output.create_hdf5();
-    file.compress(r.deflate);
+    auto file = output.create_hdf5(r.deflate);
     Ensemble e = r.model->ensemble(r.orbits);
     read_ensemble(root, *r.model, e);
     if (e.step < 0 || e.step >= r.plan.total)
@@ -305,8 +304,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
   config.reject_unknown();
 
   h5::AtomicFile output(r.path);
-  auto file = output.create_hdf5();  // fails now, not after the run
-  file.compress(r.deflate);
+  auto file = output.create_hdf5(r.deflate);  // fails now, not after the run
 
   // The orbits start by parts; /initial is written as they do, and no full copy is kept.
   Ensemble e = r.model->ensemble(r.orbits);
