@@ -7,13 +7,15 @@
 // computes exactly what advance_reference computes for its orbit. A map whose step solves an
 // equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
 //
-// Included only by the per-ISA translation units (core/instantiate.cpp.in).
+// The scalar reference path is the same code at V = double, one orbit per block, one checked step
+// at a time (advance_reference below): the reference and every ISA share one implementation of
+// stepping, escapes and observers. Each SIMD instantiation lives in its ISA's translation unit
+// (core/simd_unit.cpp.in, through core/simd_blocks.hpp).
 #include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
 
-#include "core/dispatch.hpp"
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
 #include "core/run_plan.hpp"
@@ -142,7 +144,7 @@ template <class Map, class V, int K>
         advance(k);
         for (std::size_t i = 0; i < watch.count; ++i) {
           const V now = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
-          const auto crossing = crosses(*watch.sections[i], previous[k][i], now) & alive[k];
+          const ops::mask_t<V> crossing = crosses(*watch.sections[i], previous[k][i], now) & alive[k];
           if (ops::any(crossing)) [[unlikely]]
             watch.crossings->push_back(
                 {before, w[k], crossing, first + j + 1, k, static_cast<int>(i)});
@@ -171,12 +173,15 @@ template <class Map, class V, int K>
 
 }  // namespace detail
 
+// How a block advances: in chunks kept in registers (each chunk replayed step by step where its
+// escape test trips), or one checked step at a time (the reference).
+enum class Stepping { chunks, single_steps };
+
 // flatten: the map's step is inlined into the chains' loop whatever its size, so that the K
 // chains interleave (an out-of-line step serializes them through memory).
-template <class Map, class Arch, int K>
+template <class Map, class V, int K>
 [[gnu::flatten]] void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
-                                    const RunPlan& plan, Observers* observers) {
-  using V = xsimd::batch<double, Arch>;
+                                    const RunPlan& plan, Observers* observers, Stepping stepping) {
   using L = detail::Lanes<Map, V>;
   using State = typename L::State;
   using Mask = typename L::Mask;
@@ -193,6 +198,13 @@ template <class Map, class Arch, int K>
     alive[k] = L::alive(e, first + k * W);
     s[k] = L::select(alive[k], frozen[k], parked);
   }
+  // A block whose every orbit has escaped has nothing left to step or observe.
+  const auto any_alive = [&] {
+    bool any = false;
+    for (int k = 0; k < K; ++k) any = any || ops::any(alive[k]);
+    return any;
+  };
+  if (!any_alive()) return;
   InvariantTrack<Map, V> track[K];
   for (int k = 0; k < K; ++k) track[k].load(e, first + k * W);
   const V bound2(plan.escape_bound2());
@@ -257,10 +269,17 @@ template <class Map, class Arch, int K>
                    node_values<Map>(c, x.after, section_momentum), first + x.chain * W, x.step);
   };
 
+  // Where each section's points of this block begin: they are put in (orbit, step) order at the end.
+  thread_local std::vector<std::size_t> marks;
+  marks.clear();
+  if (sections)
+    for (const auto& section : observers->sections) marks.push_back(section.points.size());
+
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
     if (sampling) next = std::min(next, next_multiple);
-    if (sections && watch.count == 0) next = n + 1;  // many sections: checked step by step
+    if (stepping == Stepping::single_steps || (sections && watch.count == 0))
+      next = n + 1;  // the reference, or many sections: checked step by step
     const bool at_multiple = next == next_multiple;
     if (at_multiple) next_multiple += plan.stride;
     const bool sampled = sampling && (at_multiple || next == plan.total);
@@ -273,6 +292,7 @@ template <class Map, class Arch, int K>
         if (sampled) sample(k);
       }
       n = next;
+      if (!any_alive()) break;
       continue;
     }
 
@@ -298,23 +318,23 @@ template <class Map, class Arch, int K>
     n = next;
     if (sampled)
       for (int k = 0; k < K; ++k) sample(k);
+    if (suspect && !any_alive()) break;
   }
   for (int k = 0; k < K; ++k) {
     L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
     track[k].store(e, first + k * W);
   }
+  if constexpr (K * W > 1)
+    for (std::size_t i = 0; i < marks.size(); ++i) observers->sections[i].order_by_orbit(marks[i]);
 }
 
-template <class Map, class Arch>
-void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
-                    std::size_t count, int chains, const RunPlan& plan, Observers* observers) {
-  const std::size_t block = xsimd::batch<double, Arch>::size * static_cast<std::size_t>(chains);
-  for (std::size_t o = first; o < first + count; o += block) switch (chains) {
-      case 1: advance_block<Map, Arch, 1>(c, e, o, plan, observers); break;
-      case 2: advance_block<Map, Arch, 2>(c, e, o, plan, observers); break;
-      case 4: advance_block<Map, Arch, 4>(c, e, o, plan, observers); break;
-      case 8: advance_block<Map, Arch, 8>(c, e, o, plan, observers); break;
-    }
+// The scalar reference path: V = double, one orbit at a time, one checked step at a time, no
+// threads. Every other path must reproduce it bit for bit.
+template <class Map>
+void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan,
+                       Observers* observers) {
+  for (std::size_t orbit = 0; orbit < e.orbits; ++orbit)
+    advance_block<Map, double, 1>(c, e, orbit, plan, observers, Stepping::single_steps);
 }
 
 }  // namespace qmaps

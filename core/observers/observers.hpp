@@ -7,8 +7,9 @@
 //    iterate after the crossing (a point of the orbit), mode `linear` the linear interpolation to
 //    the plane (a map has no flow between iterates: an interpolation, not a point of the orbit);
 //    at most `cap` points per orbit, while the section's density histogram counts every crossing.
-// Each thread fills its own empty_copy(); merge() adds counts and concatenates points, and
-// finish() sorts the points by (orbit, step): the result does not depend on threads.
+// Each thread fills its own empty_copy(), each block's points put in (orbit, step) order as it
+// ends; merge() adds counts and appends the partials' points as ordered runs, and finish() merges
+// the runs: the result does not depend on threads, and no sort is needed.
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/observers/histogram.hpp"
+#include "core/observers/large_pages.hpp"
 
 namespace qmaps {
 
@@ -44,11 +46,15 @@ struct Section {
   Coordinate x = Coordinate::q2, y = Coordinate::p2;
   std::int64_t cap = 0;
   Histogram density;                   // over (x, y): every crossing
-  std::vector<SectionPoint> points;    // at most `cap` per orbit
+  std::vector<SectionPoint, LargePages<SectionPoint>> points;  // at most `cap` per orbit
   std::shared_ptr<std::vector<std::int64_t>> kept;  // points kept per orbit (shared by threads;
                                                     // an orbit belongs to one thread)
+  std::vector<std::size_t> runs;  // where each ordered run of points after the first begins
+
   // Records a crossing of `orbit` at step n + 1, from the coordinates of nodes n and n + 1.
   void record(std::int64_t orbit, std::int64_t step, const double* before, const double* after);
+  // Puts points [from, end), each orbit's in step order (a block's), in (orbit, step) order.
+  void order_by_orbit(std::size_t from);
 };
 
 struct Observers {
@@ -59,8 +65,9 @@ struct Observers {
   bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
   bool sections_need_momentum() const;
   Observers empty_copy() const;
-  void merge(Observers&& partial);  // takes the partial's points
-  void finish();  // flushes the histograms' pending tallies, sorts section points by (orbit, step)
+  void merge(Observers&& partial);  // takes the partial's points, in (orbit, step) order
+  void merge(std::vector<Observers>&& partials);  // the same, one after the other
+  void finish();  // flushes the histograms' pending tallies, merges the ordered runs of points
 };
 
 }  // namespace qmaps
