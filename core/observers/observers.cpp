@@ -21,23 +21,6 @@ Coordinate parse_coordinate(std::string_view name, bool time_per_orbit) {
 
 std::string_view coordinate_name(Coordinate c) { return names[static_cast<std::size_t>(c)]; }
 
-void Section::record(std::int64_t orbit, std::int64_t step, const double* before,
-                     const double* after) {
-  double xy[2] = {after[static_cast<int>(x)], after[static_cast<int>(y)]};
-  if (linear) {
-    const double a = before[static_cast<int>(plane)], b = after[static_cast<int>(plane)];
-    const double f = b == a ? 1.0 : (value - a) / (b - a);
-    xy[0] = before[static_cast<int>(x)] + f * (xy[0] - before[static_cast<int>(x)]);
-    xy[1] = before[static_cast<int>(y)] + f * (xy[1] - before[static_cast<int>(y)]);
-  }
-  density.add(xy);
-  auto& count = (*kept)[static_cast<std::size_t>(orbit)];
-  if (count < cap) {
-    ++count;
-    points.push_back({orbit, step, xy[0], xy[1]});
-  }
-}
-
 bool Observers::densities_need_momentum() const {
   for (const auto& d : densities)
     for (Coordinate c : d.coordinates)

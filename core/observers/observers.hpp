@@ -51,8 +51,14 @@ struct Section {
                                                     // an orbit belongs to one thread)
   std::vector<std::size_t> runs;  // where each ordered run of points after the first begins
 
-  // Records a crossing of `orbit` at step n + 1, from the coordinates of nodes n and n + 1.
-  void record(std::int64_t orbit, std::int64_t step, const double* before, const double* after);
+  // Keeps the point (x, y) of a crossing of `orbit` at `step` if the orbit's cap allows.
+  void keep(std::int64_t orbit, std::int64_t step, double x, double y) {
+    auto& count = (*kept)[static_cast<std::size_t>(orbit)];
+    if (count < cap) {
+      ++count;
+      points.push_back({orbit, step, x, y});
+    }
+  }
   // Puts points [from, end), each orbit's in step order (a block's), in (orbit, step) order.
   void order_by_orbit(std::size_t from);
 };

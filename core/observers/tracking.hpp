@@ -68,14 +68,6 @@ std::array<V, 5> node_values(const typename Map::Coeffs& c, const typename Map::
   return x;
 }
 
-// The same as [coordinate][lane] doubles.
-template <class V>
-std::array<std::array<double, ops::lanes<V>>, 5> lanes_of(const std::array<V, 5>& x) {
-  std::array<std::array<double, ops::lanes<V>>, 5> out;
-  for (std::size_t k = 0; k < 5; ++k) out[k] = ops::lanes_of(x[k]);
-  return out;
-}
-
 // Adds the coordinates of the alive lanes to every density histogram; `momentum`:
 // o.densities_need_momentum(), decided once per run rather than per sample.
 template <class Map, class V>
@@ -99,22 +91,36 @@ ops::mask_t<V> crosses(const Section& section, V a, V b) {
   return section.direction > 0 ? up : section.direction < 0 ? down : up | down;
 }
 
-// Records, for each lane of `crossing`, the section's crossing by orbit first_orbit + lane at
-// `step`, from the coordinates of its nodes before and after.
+// The point a crossing from node n (`before`) to node n + 1 (`after`) gives in the section's
+// (x, y): mode iterate, node n + 1's; mode linear, the interpolation to the plane at
+// f = (value − a)/(b − a) of the plane coordinate's a → b (f = 1 where b = a).
+template <class V>
+std::array<V, 2> section_point(const Section& section, const std::array<V, 5>& before,
+                               const std::array<V, 5>& after) {
+  const auto x = static_cast<std::size_t>(section.x), y = static_cast<std::size_t>(section.y);
+  std::array<V, 2> xy = {after[x], after[y]};
+  if (section.linear) {
+    const auto p = static_cast<std::size_t>(section.plane);
+    const V a = before[p], b = after[p];
+    const V f = ops::select(b == a, V(1.0), (V(section.value) - a) / (b - a));
+    xy[0] = before[x] + f * (xy[0] - before[x]);
+    xy[1] = before[y] + f * (xy[1] - before[y]);
+  }
+  return xy;
+}
+
+// Records the section's crossing at `step` by each lane of `crossing` (orbit first_orbit + lane):
+// every crossing in the section's density, in V; its point while the orbit's cap allows.
 template <class V>
 void record_lanes(Section& section, ops::mask_t<V> crossing, const std::array<V, 5>& before,
                   const std::array<V, 5>& after, std::size_t first_orbit, long long step) {
+  const auto xy = section_point(section, before, after);
+  section.density.add_lanes(xy.data(), crossing);
+  if (section.cap == 0) return;
   const auto lanes = ops::lanes_of(crossing);
-  const auto b = lanes_of(before), a = lanes_of(after);
-  for (std::size_t l = 0; l < lanes.size(); ++l) {
-    if (!lanes[l]) continue;
-    double bl[5], al[5];
-    for (std::size_t k = 0; k < 5; ++k) {
-      bl[k] = b[k][l];
-      al[k] = a[k][l];
-    }
-    section.record(static_cast<std::int64_t>(first_orbit + l), step, bl, al);
-  }
+  const auto x = ops::lanes_of(xy[0]), y = ops::lanes_of(xy[1]);
+  for (std::size_t l = 0; l < lanes.size(); ++l)
+    if (lanes[l]) section.keep(static_cast<std::int64_t>(first_orbit + l), step, x[l], y[l]);
 }
 
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
