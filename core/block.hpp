@@ -139,6 +139,7 @@ template <class Map, class V, int K>
       for (std::size_t i = 0; i < watch.count; ++i)
         previous[k][i] = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
     for (long long j = 0; j < steps; ++j)
+#pragma GCC unroll 8  // the chains in registers, as in the unwatched loop
       for (int k = 0; k < K; ++k) {
         const auto before = w[k];
         advance(k);
