@@ -1,5 +1,5 @@
-// The cost of observing: Suris on the best ISA, 2^18 orbits, 1000 steps per iteration (bench_size),
-// default chains: raw; with the invariants tracked and a 128×128 (q1, q2) density sampled every
+// The cost of observing: Suris on every SIMD ISA the CPU has, 2^18 orbits, 1000 steps per
+// iteration (bench_size), default chains: raw; with the invariants tracked and a 128×128 (q1, q2) density sampled every
 // `stride` steps; a section alone (q1 = 0 both ways, iterate, cap 50); and the default preset's
 // observers (invariants and density every 10 steps, the section q1 = 0 upward with cap 2).
 // items_per_second = particle-steps/s; histogram_updates_per_second counts density samples.
@@ -28,7 +28,7 @@ Section q1_section(int direction, std::int64_t cap, std::size_t orbits) {
   return s;
 }
 
-void observe(benchmark::State& state, bool invariants, bool density, int section) {
+void observe(benchmark::State& state, Isa isa, bool invariants, bool density, int section) {
   const long long stride = state.range(0);
   const int threads = static_cast<int>(state.range(1));
   const auto model = make_model("suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 0.1}});
@@ -48,11 +48,11 @@ void observe(benchmark::State& state, bool invariants, bool density, int section
   std::int64_t samples = 0;
   for (auto _ : state) {
     Observers o = make();
-    model->advance(e, next_steps(e, steps, invariants, stride), Execution{best_isa(), threads},
+    model->advance(e, next_steps(e, steps, invariants, stride), Execution{isa, threads},
                    o.empty() ? nullptr : &o);
     if (density) samples += o.densities[0].histogram.samples();
   }
-  describe(state, "suris", isa_name(best_isa()), static_cast<double>(orbits),
+  describe(state, "suris", isa_name(isa), static_cast<double>(orbits),
            static_cast<double>(steps), threads);
   state.counters["stride"] = static_cast<double>(stride);
   if (density)
@@ -60,23 +60,33 @@ void observe(benchmark::State& state, bool invariants, bool density, int section
         static_cast<double>(samples), benchmark::Counter::kIsRate);
 }
 
-void args(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"stride", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
-  for (long stride : {1, 10, 100})
-    for (long threads : {1, 2}) b->Args({stride, threads});
-}
-
-void threads_only(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"stride", "threads"})->Unit(benchmark::kMillisecond)->UseRealTime();
-  for (long threads : {1, 2}) b->Args({10, threads});
-}
-
-BENCHMARK_CAPTURE(observe, raw, false, false, 0)->ArgNames({"stride", "threads"})->Args({1000, 1})->Args({1000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(observe, invariants, true, false, 0)->Apply(args);
-BENCHMARK_CAPTURE(observe, invariants_density, true, true, 0)->Apply(args);
-BENCHMARK_CAPTURE(observe, density, false, true, 0)->Apply(args);
-BENCHMARK_CAPTURE(observe, section, false, false, 2)->ArgNames({"stride", "threads"})->Args({1000, 1})->Args({1000, 2})->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(observe, preset, true, true, 1)->Apply(threads_only);
+// Each kind of observing on each ISA: observe/<kind>/<isa>/stride:S/threads:T.
+const bool registered = [] {
+  struct Kind {
+    const char* name;
+    bool invariants, density;
+    int section;
+    std::vector<long> strides;
+  };
+  const Kind kinds[] = {{"raw", false, false, 0, {1000}},
+                        {"invariants", true, false, 0, {1, 10, 100}},
+                        {"invariants_density", true, true, 0, {1, 10, 100}},
+                        {"density", false, true, 0, {1, 10, 100}},
+                        {"section", false, false, 2, {1000}},
+                        {"preset", true, true, 1, {10}}};
+  for (Isa isa : runnable_isas())
+    for (const Kind& k : kinds) {
+      auto* b = benchmark::RegisterBenchmark(
+                    ("observe/" + std::string(k.name) + "/" + std::string(isa_name(isa))).c_str(),
+                    observe, isa, k.invariants, k.density, k.section)
+                    ->ArgNames({"stride", "threads"})
+                    ->Unit(benchmark::kMillisecond)
+                    ->UseRealTime();
+      for (long stride : k.strides)
+        for (long threads : {1, 2}) b->Args({stride, threads});
+    }
+  return true;
+}();
 
 }  // namespace
 }  // namespace qmaps
