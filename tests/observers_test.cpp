@@ -7,6 +7,9 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
+#include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/isa.hpp"
 #include "core/observers/histogram_lanes.hpp"
@@ -372,6 +375,45 @@ TEST(Observers, CapsBoundTheStoredPointsWhileTheDensityCountsEveryCrossing) {
   for (int n : per_orbit) EXPECT_LE(n, 2);
   EXPECT_GT(s.density.samples(), static_cast<std::int64_t>(10 * points.size()));
   EXPECT_EQ(total(s.density), s.density.samples());
+}
+
+// Partials merged in any order, each an ordered run or several, come out in (orbit, step) order:
+// the points a merge takes are ordered runs, and finish() merges them without a sort.
+TEST(Observers, PartialsMergedInAnyOrderFinishInOrbitStepOrder) {
+  const auto section_with = [](std::vector<SectionPoint> points) {
+    Observers o = observers(64, 100);
+    o.sections[0].points.assign(points.begin(), points.end());
+    return o;
+  };
+  Observers all = observers(64, 100);
+  std::vector<Observers> partials;
+  partials.push_back(section_with({{40, 3, 0, 0}, {40, 9, 0, 0}, {41, 1, 0, 0}}));
+  partials.push_back(section_with({}));
+  partials.push_back(section_with({{2, 5, 0, 0}, {7, 2, 0, 0}, {7, 8, 0, 0}}));
+  all.merge(std::move(partials));
+  all.merge(section_with({{7, 4, 0, 0}, {50, 1, 0, 0}}));  // a later segment's
+  all.merge(section_with({{0, 6, 0, 0}}));
+  all.finish();
+  std::vector<std::pair<std::int64_t, std::int64_t>> got;
+  for (const auto& p : all.sections[0].points) got.emplace_back(p.orbit, p.step);
+  const std::vector<std::pair<std::int64_t, std::int64_t>> expected = {
+      {0, 6}, {2, 5}, {7, 2}, {7, 4}, {7, 8}, {40, 3}, {40, 9}, {41, 1}, {50, 1}};
+  EXPECT_EQ(got, expected);
+  EXPECT_TRUE(all.sections[0].runs.empty());
+}
+
+// A block's points, recorded step by step across its orbits, are put in (orbit, step) order,
+// each orbit's points keeping their step order; the points before `from` stay where they are.
+TEST(Observers, OrderByOrbitIsStableAndLeavesEarlierPointsAlone) {
+  Section s;
+  s.points = {{1, 9, 0, 0}, {13, 1, 0, 0}, {10, 1, 1, 0}, {12, 2, 0, 0}, {10, 2, 2, 0},
+              {12, 3, 0, 0}, {10, 2, 3, 0}};
+  s.order_by_orbit(1);
+  std::vector<std::tuple<std::int64_t, std::int64_t, double>> got;
+  for (const auto& p : s.points) got.emplace_back(p.orbit, p.step, p.x);
+  const std::vector<std::tuple<std::int64_t, std::int64_t, double>> expected = {
+      {1, 9, 0}, {10, 1, 1}, {10, 2, 2}, {10, 2, 3}, {12, 2, 0}, {12, 3, 0}, {13, 1, 0}};
+  EXPECT_EQ(got, expected);
 }
 
 }  // namespace
