@@ -19,13 +19,27 @@
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
 #include "core/run_plan.hpp"
-#include "core/observers/tracking.hpp"
+#include "core/observers/density_lanes.hpp"
+#include "core/observers/invariant_track.hpp"
+#include "core/observers/observers.hpp"
+#include "core/observers/section_lanes.hpp"
 
 namespace qmaps {
 
 namespace detail {
 
 inline constexpr long long max_chunk = 256;
+
+// One step in place; returns the lanes' fault codes (0: none; always 0 for explicit maps).
+template <class Map, class V>
+V step_reporting_faults(const typename Map::Coeffs& c, typename Map::template State<V>& s) {
+  if constexpr (Map::reports_faults) {
+    return Map::step(c, s);
+  } else {
+    Map::step(c, s);
+    return V(0.0);
+  }
+}
 
 template <class Map, class V>
 struct Lanes {
@@ -217,7 +231,7 @@ template <class Map, class V, int K>
   std::array<V, 5> before[K];
   for (int k = 0; k < K; ++k) {
     if (densities && plan.first == 0)
-      sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
+      sample_densities<Map>(c, s[k], alive[k], observers->densities, density_momentum);
     if (sections) before[k] = node_values<Map>(c, s[k], section_momentum);
   }
   // Up to max_watched sections are watched inside the chunks; more are checked step by step.
@@ -239,7 +253,7 @@ template <class Map, class V, int K>
   const auto checked_step = [&](int k, long long j) {
     V previous[std::tuple_size_v<State>];
     for (std::size_t i = 0; i < std::size(previous); ++i) previous[i] = s[k][i];
-    const V fault = step_reporting_faults<Map>(c, s[k]);
+    const V fault = detail::step_reporting_faults<Map>(c, s[k]);
     const Mask ok = (Map::escape_measure(s[k]) <= bound2) & (fault == V(0.0));
     const Mask fresh = alive[k] & ops::negate(ok);
     if (ops::any(fresh)) [[unlikely]] {
@@ -254,13 +268,13 @@ template <class Map, class V, int K>
   // The sections crossed by chain k from its node before (`before[k]`) to node n.
   const auto check = [&](int k, long long n) {
     if (sections)
-      check_sections<Map>(c, s[k], alive[k], *observers, section_momentum, first + k * W, n,
-                          before[k]);
+      check_sections<Map>(c, s[k], alive[k], observers->sections, section_momentum, first + k * W,
+                          n, before[k]);
   };
   // The samples of chain k at its node.
   const auto sample = [&](int k) {
     if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
-    if (densities) sample_densities<Map>(c, s[k], alive[k], *observers, density_momentum);
+    if (densities) sample_densities<Map>(c, s[k], alive[k], observers->densities, density_momentum);
   };
   // The crossings a clean chunk kept, recorded as check_sections records them.
   const auto record_crossings = [&] {
