@@ -15,19 +15,18 @@ struct Column {
   std::string name;
 };
 
-// Datasets of n doubles, computed orbits_per_part orbits at a time: fill(first, count, values)
-// sets values[k][0, count) of column k for orbits [first, first + count).
-template <class Fill>
+// Datasets of n elements of T (doubles unless said), computed orbits_per_part rows at a time:
+// fill(first, count, values) sets values[k][0, count) of column k for rows [first, first + count).
+template <class T = double, class Fill>
 void write_columns(const std::vector<Column>& columns, std::size_t n, Fill fill) {
-  for (const auto& c : columns) c.group.create_column<double>(c.name, n);
-  std::vector<std::vector<double>> values(columns.size(),
-                                          std::vector<double>(std::min(n, orbits_per_part)));
+  for (const auto& c : columns) c.group.create_column<T>(c.name, n);
+  std::vector<std::vector<T>> values(columns.size(), std::vector<T>(std::min(n, orbits_per_part)));
   for (std::size_t first = 0; first < n; first += orbits_per_part) {
     const std::size_t count = std::min(orbits_per_part, n - first);
     fill(first, count, values);
     for (std::size_t k = 0; k < columns.size(); ++k)
-      columns[k].group.write_part<double>(columns[k].name, first,
-                                          std::span<const double>(values[k]).first(count));
+      columns[k].group.write_part<T>(columns[k].name, first,
+                                     std::span<const T>(values[k]).first(count));
   }
 }
 
@@ -60,18 +59,22 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
   const auto sections = root.create_group("sections");
   for (const auto& s : o.sections) {
     const auto g = sections.create_group(s.name);
-    std::vector<std::int64_t> orbit, step;
-    std::vector<double> x, y;
-    for (const auto& p : s.points) {
-      orbit.push_back(p.orbit);
-      step.push_back(p.step);
-      x.push_back(p.x);
-      y.push_back(p.y);
-    }
-    g.write("orbit", orbit);
-    g.write("step", step);
-    g.write("x", x);
-    g.write("y", y);
+    // The points' columns in parts: no second copy of the points.
+    const auto& points = s.points;
+    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, points.size(),
+                                [&](std::size_t first, std::size_t count, auto& values) {
+                                  for (std::size_t i = 0; i < count; ++i) {
+                                    values[0][i] = points[first + i].orbit;
+                                    values[1][i] = points[first + i].step;
+                                  }
+                                });
+    write_columns({{g, "x"}, {g, "y"}}, points.size(),
+                  [&](std::size_t first, std::size_t count, auto& values) {
+                    for (std::size_t i = 0; i < count; ++i) {
+                      values[0][i] = points[first + i].x;
+                      values[1][i] = points[first + i].y;
+                    }
+                  });
     write_histogram(g, s.density, "density");
     g.attr("plane", std::string(coordinate_name(s.plane)));
     g.attr("value", s.value);
