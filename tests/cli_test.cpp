@@ -44,13 +44,18 @@ class Cli : public ::testing::Test {
   }
 };
 
-TEST_F(Cli, SmallRunWritesFileAndOneLineSummary) {
+TEST_F(Cli, SmallRunWritesFileAndASummaryWithItsTimeByPhase) {
   const Result r = run_config(config);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_EQ(r.out, "");
   EXPECT_TRUE(Contains(r.err, "qmaps: suris, 100 orbits x 50 steps in "));
-  EXPECT_TRUE(Contains(r.err, "0 escaped -> " + output + "\n"));
-  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "one line: " << r.err;
+  const auto first_end = r.err.find("0 escaped -> " + output + "\n");
+  ASSERT_NE(first_end, std::string::npos) << r.err;
+  const std::string phases = r.err.substr(r.err.find('\n') + 1);
+  EXPECT_TRUE(phases.starts_with("qmaps: time by phase: starting ")) << r.err;
+  for (const char* part : {" s, stepping and observing ", " s, writing "})
+    EXPECT_TRUE(Contains(phases, part)) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 2) << "two lines: " << r.err;
   EXPECT_TRUE(fs::is_regular_file(output));
   EXPECT_FALSE(dir.has_entry_containing(".tmp-"));
 }

@@ -3,6 +3,7 @@
 
 #include <cerrno>
 #include <csignal>
+#include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <optional>
@@ -76,6 +77,9 @@ struct Run {
   bool rejects_points = false;  // the kind rejects candidates: the summary says how many
   // Provenance carried over from the first session (and the checkpoints).
   std::string config_text, config_resolved, command_line, started, sessions;
+  // When this session began: the summary splits its time into starting (configuration, initial
+  // conditions or the checkpoint), stepping (with the observers) and writing the output.
+  std::chrono::steady_clock::time_point began = std::chrono::steady_clock::now();
 };
 
 Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
@@ -160,6 +164,10 @@ void naming_failures(const std::string& path, Write write) {
 // before it stops; then writes the output file and removes the checkpoint.
 int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
             const InterruptGuard& interrupt, const RunOptions& options, std::ostream& log) {
+  const auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  const double starting = since(r.began);
   const std::string session_started = r.sessions.empty() ? r.started : utc_now();
   const long long first = e.step;
   const std::string checkpoint = r.path + checkpoint_suffix;
@@ -211,6 +219,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   progress.end();
   const double seconds = progress.seconds();
 
+  const auto writing_began = std::chrono::steady_clock::now();
   r.observers.finish();
   naming_failures(r.path, [&] {  // an incomplete file is never committed
     write_run(file.root(),
@@ -219,6 +228,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   });
   output.commit();
   std::remove(checkpoint.c_str());
+  const double writing = since(writing_began);
 
   const double rate = static_cast<double>(r.orbits) * static_cast<double>(r.plan.total - first) /
                       (seconds > 0 ? seconds : 1e-300);
@@ -231,6 +241,11 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
                 r.x.threads == 1 ? "" : "s", e.escaped(),
                 r.rejects_points ? (", " + std::to_string(r.rejected) + " rejected").c_str() : "",
                 r.path.c_str());
+  log << line;
+  std::snprintf(line, sizeof line,
+                "qmaps: time by phase: starting %.3f s, stepping and observing %.3f s, writing "
+                "%.3f s\n",
+                starting, seconds, writing);
   log << line;
   return 0;
 }
