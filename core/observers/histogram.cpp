@@ -32,18 +32,17 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
     throw usage_error("histogram '" + name_ + "' has too many cells (" + std::to_string(cells) + ")");
   cells_ = cells;
   bins1_ = static_cast<double>(bins_[1]);
-  for (std::size_t t = 0; t < 3; ++t) tallies_[t] = static_cast<double>(cells + t);
-  counts_.assign(cells + 3, 0);
-  pending_.assign(cells + 3, 0);
+  for (std::size_t t = 0; t < 2; ++t) tallies_[t] = static_cast<double>(cells + t);
+  counts_.assign(cells + 2, 0);
+  pending_.assign(cells + 2, 0);
 }
 
 std::int64_t Histogram::samples() const {
-  return std::accumulate(counts_.begin(), counts_.begin() + static_cast<std::ptrdiff_t>(cells_ + 2),
-                         std::int64_t{0});
+  return std::accumulate(counts_.begin(), counts_.end(), std::int64_t{0});
 }
 
 void Histogram::add(const double* x) {
-  ++counts_[ops::integer_lanes(rank_ == 2 ? slot<2>(x, true) : slot<1>(x, true))[0]];
+  ++counts_[ops::integer_lanes(rank_ == 2 ? slot<2>(x) : slot<1>(x))[0]];
 }
 
 void Histogram::flush() {

@@ -27,8 +27,9 @@ class Histogram {
   void add(const double* x);
 
   // One sample per alive lane of V: the values of axis k in x[k]. Each lane's slot (its cell, or
-  // the underflow, overflow or discard tally past the cells) is computed in V with the same
-  // arithmetic for double, so every path bins alike; then one increment per lane, no branches.
+  // the underflow or overflow tally past the cells) is computed in V with the same arithmetic for
+  // double, so every path bins alike; then one increment per alive lane (with no branch when
+  // every lane is alive, as for densities; a section's crossings are a few lanes at a time).
   // These increments go to 16-bit pending tallies (a 128 × 128 histogram's stay in L1), added to
   // the counts by flush() before any of them could overflow, and by merge() and
   // Observers::merge/finish: counts(), underflow(), overflow() and samples() include the pending
@@ -51,7 +52,7 @@ class Histogram {
   }
   std::int64_t underflow() const { return counts_[cells_]; }
   std::int64_t overflow() const { return counts_[cells_ + 1]; }
-  std::int64_t samples() const;  // every count but the discarded lanes'
+  std::int64_t samples() const;  // every count
 
  private:
   std::string name_;
@@ -60,16 +61,16 @@ class Histogram {
   double lo_[2] = {0, 0}, hi_[2] = {1, 1}, scale_[2] = {1, 1}, last_[2] = {0, 0};
   std::int64_t bins_[2] = {1, 1};
   std::size_t cells_ = 1;
-  std::vector<std::int64_t> counts_;  // the cells, then the underflow, overflow, discard tallies
+  std::vector<std::int64_t> counts_;  // the cells, then the underflow and overflow tallies
   // add_lanes' increments since the last flush, at most pending_limit in all (so in every slot)
   static constexpr std::size_t pending_limit = 0xFFFF;
   std::vector<std::uint16_t> pending_;
   std::size_t pending_samples_ = 0;
-  // As the slots' doubles: the second axis' bins, and the tallies' slots cells, cells + 1, + 2.
-  double bins1_ = 1, tallies_[3] = {1, 2, 3};
+  // As the slots' doubles: the second axis' bins, and the tallies' slots cells, cells + 1.
+  double bins1_ = 1, tallies_[2] = {1, 2};
 
-  template <int rank, class V, class Mask>
-  V slot(const V* x, Mask alive) const;
+  template <int rank, class V>
+  V slot(const V* x) const;
 };
 
 }  // namespace qmaps
