@@ -147,6 +147,33 @@ template <class Map, class V, int K>
 #pragma GCC unroll 2
     for (long long j = 0; j < steps; ++j)
       for (int k = 0; k < K; ++k) advance(k);
+  } else if (watch.count == 1) {
+    // One section, the usual case: its plane, value and direction and the chains' live lanes in
+    // locals, so that nothing is reloaded from memory between steps.
+    const Section& section = *watch.sections[0];
+    const Coordinate plane = section.plane;
+    const V value(section.value);
+    const int direction = section.direction;
+    V previous[K];
+    ops::mask_t<V> live[K];
+    for (int k = 0; k < K; ++k) {
+      previous[k] = Watch<Map, V>::plane(c, w[k], plane);
+      live[k] = alive[k];
+    }
+    for (long long j = 0; j < steps; ++j)
+#pragma GCC unroll 8
+      for (int k = 0; k < K; ++k) {
+        const auto before = w[k];
+        advance(k);
+        const V now = Watch<Map, V>::plane(c, w[k], plane);
+        const auto up = (previous[k] < value) & (now >= value);
+        const auto down = (previous[k] > value) & (now <= value);
+        const ops::mask_t<V> crossing =
+            (direction > 0 ? up : direction < 0 ? down : up | down) & live[k];
+        if (ops::any(crossing)) [[unlikely]]
+          watch.crossings->push_back({before, w[k], crossing, first + j + 1, k, 0});
+        previous[k] = now;
+      }
   } else {
     V previous[K][max_watched];
     for (int k = 0; k < K; ++k)
