@@ -33,9 +33,12 @@ void checked(herr_t status, const std::string& what, int) {
 }
 
 // How a dataset of shape `dims` is stored: contiguous (deflate 0), or in chunks of at most 2^16
-// elements along the first axis, shuffled and gzip-compressed at level `deflate`.
+// elements along the first axis, shuffled and gzip-compressed at level `deflate`. Never filled
+// with a fill value first: every dataset is written in full before its file is committed, so
+// filling would only write the file twice.
 Handle creation_properties(std::span<const hsize_t> dims, int deflate) {
   Handle plist(checked(H5Pcreate(H5P_DATASET_CREATE), "dataset properties"), H5Pclose);
+  checked(H5Pset_fill_time(plist.id(), H5D_FILL_TIME_NEVER), "fill time", 0);
   hsize_t elements = 1;
   for (hsize_t d : dims) elements *= d;
   if (deflate > 0 && elements > 0) {

