@@ -15,6 +15,7 @@ enum class EscapeReason : std::uint8_t {
   zero_derivative = 4,  // an implicit step's solver derivative vanished
   wrong_branch = 5,     // an implicit step's root is not on the physical branch
 };
+inline constexpr std::uint8_t last_escape_reason = 5;
 std::string_view escape_reason_name(EscapeReason reason);
 // Why a state (its components, one orbit) escaped: the solver's fault code when it is not 0,
 // else non-finite, else beyond the bound.

@@ -71,6 +71,30 @@ TEST(Config, MalformedTomlNamesSourceAndLine) {
   EXPECT_TRUE(Contains(msg, "malformed TOML"));
 }
 
+// A configuration beyond 1 MiB, or with a line beyond 4096 characters (a table header 100000
+// levels deep, an array nested as deep), is refused before the TOML parser recurses into it.
+TEST(Config, OversizedConfigurationsAreRefusedBeforeParsing) {
+  std::string deep = "[map]\nA = 0.7\n[";
+  for (int i = 0; i < 100000; ++i) deep += "a.";
+  deep += "a]\n";
+  const std::string header = usage_message([&] { Config::parse(deep, "cfg.toml"); });
+  EXPECT_TRUE(Contains(header, "cfg.toml:3: a line of 200003 characters; at most 4096")) << header;
+  const std::string nested = "[map]\nv = " + std::string(100000, '[') + "\n";
+  EXPECT_TRUE(Contains(usage_message([&] { Config::parse(nested, "cfg.toml"); }), "cfg.toml:2:"));
+  std::string big = "[map]\n";
+  while (big.size() <= (std::size_t{1} << 20)) big += "# a comment line of some length\n";
+  EXPECT_TRUE(Contains(usage_message([&] { Config::parse(big, "cfg.toml"); }),
+                       "a configuration may have at most 1048576"));
+  // Within the limits, deep nesting is the parser's ordinary error, not a crash.
+  std::string bounded = "[map]\n[";
+  for (int i = 0; i < 2000; ++i) bounded += "a.";
+  bounded += "a]\nx = 1\n";
+  EXPECT_NO_FATAL_FAILURE(usage_message([&] { Config::parse(bounded, "cfg.toml").reject_unknown(); }));
+  Config c = config();
+  EXPECT_TRUE(Contains(usage_message([&] { c.set("run.steps=" + std::string(5000, '[')); }),
+                       "--set run.steps:1: a line of 5000 characters"));
+}
+
 TEST(Config, KeyOutsideSectionIsRejected) {
   const std::string msg = usage_message([] { Config::parse("steps = 5\n", "cfg.toml"); });
   EXPECT_TRUE(Contains(msg, "cfg.toml:1:"));

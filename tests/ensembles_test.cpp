@@ -21,6 +21,7 @@
 #include "ensembles/kinds/line.hpp"
 #include "ensembles/kinds/shell.hpp"
 #include "run_process.hpp"
+#include "h5_read.hpp"
 
 namespace qmaps::testing {
 namespace {
@@ -292,7 +293,7 @@ class FromFileTest : public ::testing::Test {
     const auto f = h5::File::open_read(dir / file);
     const auto s = f.root().open_group("final").open_group("state");
     std::vector<std::vector<double>> out;
-    for (const auto name : model.state_names()) out.push_back(s.read_doubles(std::string(name)));
+    for (const auto name : model.state_names()) out.push_back(testing::all_doubles(s, std::string(name)));
     return out;
   }
 };
@@ -341,10 +342,10 @@ TEST_F(FromFileTest, EscapedOrbitsStayEscaped) {
   run_ok(config(kSuris, "kind = \"file\"\npath = \"first.h5\"\n", 20, "second.h5"));
   const auto first = h5::File::open_read(dir / "first.h5"),
              second = h5::File::open_read(dir / "second.h5");
-  const auto step1 = first.root().open_group("escape").read_int64("step");
-  const auto reason1 = first.root().open_group("escape").read_int64("reason");
-  const auto step2 = second.root().open_group("escape").read_int64("step");
-  const auto reason2 = second.root().open_group("escape").read_int64("reason");
+  const auto step1 = testing::all_int64(first.root().open_group("escape"), "step");
+  const auto reason1 = testing::all_int64(first.root().open_group("escape"), "reason");
+  const auto step2 = testing::all_int64(second.root().open_group("escape"), "step");
+  const auto reason2 = testing::all_int64(second.root().open_group("escape"), "reason");
   const auto model = suris_model();
   const auto s1 = state("first.h5", *model), s2 = state("second.h5", *model);
   int escaped = 0;

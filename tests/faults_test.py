@@ -1,7 +1,8 @@
 """Faults while a run writes: a file-size limit (as a full disk) fails the write of the output or
 of a checkpoint with exit 3 and a message naming the file and the reason, and leaves neither the
 file nor its temporary; SIGHUP
-(a dropped session) stops the run with a checkpoint as SIGTERM does, and the run resumes."""
+(a dropped session) stops the run with a checkpoint as SIGTERM does, and the run resumes; an
+ensemble beyond the address-space limit is refused before it is allocated."""
 import os
 import pathlib
 import resource
@@ -13,10 +14,12 @@ import unittest
 import small_run
 
 
-def run(directory, *args, env=None, fsize=None):
+def run(directory, *args, env=None, fsize=None, address_space=None):
     def limit():
         if fsize is not None:
             resource.setrlimit(resource.RLIMIT_FSIZE, (fsize, fsize))
+        if address_space is not None:
+            resource.setrlimit(resource.RLIMIT_AS, (address_space, address_space))
     return subprocess.run([str(small_run.BINARY), *args], capture_output=True, text=True,
                           cwd=directory, env={**os.environ, **(env or {})}, preexec_fn=limit)
 
@@ -57,6 +60,16 @@ class Faults(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             self.assertTrue((pathlib.Path(d) / "out.h5").is_file())
             self.assertFalse((pathlib.Path(d) / "out.h5.ckpt").exists())
+
+
+    def test_an_ensemble_beyond_the_address_space_limit_is_refused_before_any_work(self):
+        with tempfile.TemporaryDirectory() as d:
+            # 10^8 Suris orbits need about 8.3 GiB; the limit is 2 GiB.
+            r = run(d, *self.config(d, 100_000_000, 10), address_space=2 << 30)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("orbits need about", r.stderr)
+            self.assertIn("the address-space limit (ulimit -v) is 2 GiB", r.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
 
 
 if __name__ == "__main__":

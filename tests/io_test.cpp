@@ -15,6 +15,7 @@
 #include "core/version.hpp"
 #include "kernels/suris.hpp"
 #include "run_process.hpp"
+#include "h5_read.hpp"
 
 namespace qmaps::testing {
 namespace {
@@ -71,7 +72,7 @@ const Suris::Coeffs& coeffs() {  // the preset's parameters
 std::vector<State> read_states(const h5::Group& state) {
   std::vector<std::vector<double>> columns;
   for (const char* name : {"q1_n", "q2_n", "q1_n+1", "q2_n+1"})
-    columns.push_back(state.read_doubles(name));
+    columns.push_back(testing::all_doubles(state, name));
   std::vector<State> out(columns[0].size());
   for (std::size_t i = 0; i < out.size(); ++i)
     out[i] = {columns[0][i], columns[1][i], columns[2][i], columns[3][i]};
@@ -79,8 +80,8 @@ std::vector<State> read_states(const h5::Group& state) {
 }
 
 std::vector<Phase> read_phases(const h5::Group& g) {
-  const auto q1 = g.read_doubles("q1"), q2 = g.read_doubles("q2"), p1 = g.read_doubles("p1"),
-             p2 = g.read_doubles("p2");
+  const auto q1 = testing::all_doubles(g, "q1"), q2 = testing::all_doubles(g, "q2"), p1 = testing::all_doubles(g, "p1"),
+             p2 = testing::all_doubles(g, "p2");
   std::vector<Phase> out(q1.size());
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = {q1[i], q2[i], p1[i], p2[i]};
   return out;
@@ -146,7 +147,7 @@ TEST_F(Io, GroupsHoldTheRun) {
     const auto drift = invariants.open_group(name).open_group("drift_histogram");
     std::int64_t total = drift.attr_int64("zero") + drift.attr_int64("underflow") +
                          drift.attr_int64("overflow");
-    for (auto c : drift.read_int64("counts")) total += c;
+    for (auto c : testing::all_int64(drift, "counts")) total += c;
     EXPECT_EQ(total, 100) << "every orbit counts once";
   }
   EXPECT_EQ(root.open_group("escape").attr_string("reason_codes"),
@@ -162,9 +163,8 @@ TEST_F(Io, WithoutPerOrbitDatasetsOnlyHistogramsAreWritten) {
   for (const auto& name : kInvariants) {
     const auto g = root.open_group("invariants").open_group(name);
     EXPECT_EQ(g.members(), (std::vector<std::string>{"drift_histogram"}));
-    EXPECT_EQ(g.open_group("drift_histogram").read_int64("counts"),
-              full.open_group("invariants").open_group(name).open_group("drift_histogram")
-                  .read_int64("counts"));
+    EXPECT_EQ(testing::all_int64(g.open_group("drift_histogram"), "counts"),
+              testing::all_int64(full.open_group("invariants").open_group(name).open_group("drift_histogram"), "counts"));
   }
 }
 
@@ -186,12 +186,12 @@ TEST_F(Io, FinalPhaseAndInvariantsEqualKernelOfState) {
   const auto initial = read_phases(root.open_group("initial"));
   const auto final = read_phases(root.open_group("final"));
   const auto states = read_states(root.open_group("final").open_group("state"));
-  const auto steps = root.open_group("escape").read_int64("step");
+  const auto steps = testing::all_int64(root.open_group("escape"), "step");
   const auto inv = root.open_group("invariants");
   for (std::size_t k = 0; k < kInvariants.size(); ++k) {
     const auto g = inv.open_group(kInvariants[k]);
-    const auto at0 = g.read_doubles("initial"), at_end = g.read_doubles("final"),
-               drift = g.read_doubles("max_abs_drift");
+    const auto at0 = testing::all_doubles(g, "initial"), at_end = testing::all_doubles(g, "final"),
+               drift = testing::all_doubles(g, "max_abs_drift");
     for (std::size_t i = 0; i < states.size(); ++i) {
       double v0[3], v[3];
       Suris::invariants(coeffs(), Suris::from_phase_space(coeffs(), initial[i], Start::taylor), v0);
@@ -231,7 +231,7 @@ TEST_F(Io, EscapedOrbitIsFrozenAtLastStateWithinBound) {
   const auto initial = read_phases(root.open_group("initial"));
   const auto states = read_states(root.open_group("final").open_group("state"));
   const auto escape = root.open_group("escape");
-  const auto step = escape.read_int64("step");
+  const auto step = testing::all_int64(escape, "step");
   const auto reason = read_uint8(escape, "reason");
   const double bound2 = 0.55 * 0.55;
   std::int64_t escaped = 0;

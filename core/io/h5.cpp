@@ -75,14 +75,19 @@ void write_1d(hid_t parent, const std::string& where, const std::string& name, h
   write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims), deflate);
 }
 
+// The dataset `name`, which must hold `expected` elements (its shape is checked before anything
+// is allocated or read: a file's own sizes are not trusted).
 template <class T>
 std::vector<T> read_1d(hid_t parent, const std::string& where, const std::string& name,
-                       hid_t type) {
+                       hid_t type, std::size_t expected) {
   Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT),
                      "no dataset " + where + "/" + name),
              H5Dclose);
   Handle space(checked(H5Dget_space(set.id()), "dataspace of " + name), H5Sclose);
   const hssize_t n = H5Sget_simple_extent_npoints(space.id());  // every element, row-major
+  if (n < 0 || static_cast<std::size_t>(n) != expected)
+    throw failure("dataset " + where + "/" + name + " holds " + std::to_string(n) +
+                  " elements, not " + std::to_string(expected));
   std::vector<T> out(static_cast<std::size_t>(n));
   if (n > 0)
     checked(H5Dread(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()),
@@ -126,10 +131,16 @@ void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, con
   checked(H5Awrite(a.id(), type, value), "cannot write attribute " + name, 0);
 }
 
+// The attribute `name` of obj, which must hold one value (an array is refused before any read).
 Handle open_attr(hid_t obj, const std::string& where, const std::string& name) {
-  return Handle(checked(H5Aopen(obj, name.c_str(), H5P_DEFAULT),
-                        "no attribute '" + name + "' on " + where),
-                H5Aclose);
+  Handle a(checked(H5Aopen(obj, name.c_str(), H5P_DEFAULT), "no attribute '" + name + "' on " + where),
+           H5Aclose);
+  Handle space(checked(H5Aget_space(a.id()), "dataspace of attribute " + name), H5Sclose);
+  const hssize_t n = H5Sget_simple_extent_npoints(space.id());
+  if (n != 1)
+    throw failure("attribute '" + name + "' on " + where + " holds " + std::to_string(n) +
+                  " values, not one");
+  return a;
 }
 
 }  // namespace
@@ -231,14 +242,14 @@ QMAPS_H5_COLUMN(std::int64_t)
 QMAPS_H5_COLUMN(std::uint8_t)
 #undef QMAPS_H5_COLUMN
 
-std::vector<double> Group::read_doubles(const std::string& name) const {
-  return read_1d<double>(id(), path_, name, H5T_NATIVE_DOUBLE);
+std::vector<double> Group::read_doubles(const std::string& name, std::size_t expected) const {
+  return read_1d<double>(id(), path_, name, H5T_NATIVE_DOUBLE, expected);
 }
-std::vector<std::int64_t> Group::read_int64(const std::string& name) const {
-  return read_1d<std::int64_t>(id(), path_, name, H5T_NATIVE_INT64);
+std::vector<std::int64_t> Group::read_int64(const std::string& name, std::size_t expected) const {
+  return read_1d<std::int64_t>(id(), path_, name, H5T_NATIVE_INT64, expected);
 }
-std::vector<std::uint8_t> Group::read_uint8(const std::string& name) const {
-  return read_1d<std::uint8_t>(id(), path_, name, H5T_NATIVE_UINT8);
+std::vector<std::uint8_t> Group::read_uint8(const std::string& name, std::size_t expected) const {
+  return read_1d<std::uint8_t>(id(), path_, name, H5T_NATIVE_UINT8, expected);
 }
 
 void Group::attr(const std::string& name, const std::string& value) const {

@@ -61,9 +61,10 @@ class Group {
   void write_part(const std::string& name, std::size_t first, std::span<const T> data) const;
   template <class T>
   void read_part(const std::string& name, std::size_t first, std::span<T> out) const;
-  std::vector<double> read_doubles(const std::string& name) const;
-  std::vector<std::int64_t> read_int64(const std::string& name) const;
-  std::vector<std::uint8_t> read_uint8(const std::string& name) const;
+  // Whole datasets of exactly `expected` elements; any other size is an error before any read.
+  std::vector<double> read_doubles(const std::string& name, std::size_t expected) const;
+  std::vector<std::int64_t> read_int64(const std::string& name, std::size_t expected) const;
+  std::vector<std::uint8_t> read_uint8(const std::string& name, std::size_t expected) const;
 
   void attr(const std::string& name, const std::string& value) const;
   void attr(const std::string& name, const char* value) const { attr(name, std::string(value)); }

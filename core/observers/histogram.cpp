@@ -26,6 +26,8 @@ Histogram::Histogram(std::string name, std::vector<Axis> axes)
     bins_[k] = a.bins;
     last_[k] = static_cast<double>(a.bins - 1);
     scale_[k] = static_cast<double>(a.bins) / (a.hi - a.lo);
+    if (a.bins <= 0 || static_cast<std::size_t>(a.bins) > (std::size_t{1} << 40) / cells)
+      throw usage_error("histogram '" + name_ + "' has too many cells");
     cells *= static_cast<std::size_t>(a.bins);
   }
   if (cells > (std::size_t{1} << 40))

@@ -87,7 +87,33 @@ std::size_t Config::entries(std::string_view array) const {
   return a ? a->size() : 0;
 }
 
+namespace {
+
+constexpr std::size_t max_config_bytes = std::size_t{1} << 20;
+
+// A configuration is small: at most 1 MiB, in lines of at most 4096 characters. Checked before
+// the TOML parser sees it, which recurses on nested headers and values.
+void check_size(std::string_view text, const std::string& source) {
+  constexpr std::size_t max_line = 4096;
+  if (text.size() > max_config_bytes)
+    throw usage_error(source + ": " + std::to_string(text.size()) +
+                      " bytes; a configuration may have at most " + std::to_string(max_config_bytes));
+  std::size_t line = 1, start = 0;
+  for (std::size_t i = 0; i <= text.size(); ++i)
+    if (i == text.size() || text[i] == '\n') {
+      if (i - start > max_line)
+        throw usage_error(source + ":" + std::to_string(line) + ": a line of " +
+                          std::to_string(i - start) + " characters; at most " +
+                          std::to_string(max_line));
+      ++line;
+      start = i + 1;
+    }
+}
+
+}  // namespace
+
 Config Config::parse(std::string_view text, std::string source) {
+  check_size(text, source);
   Config c;
   c.text_ = std::string(text);
   c.source_ = std::move(source);
@@ -109,6 +135,11 @@ Config Config::parse(std::string_view text, std::string source) {
 Config Config::load(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(ExitCode::io, "cannot read config file '" + path + "'");
+  in.seekg(0, std::ios::end);
+  if (const auto size = in.tellg(); size > static_cast<std::streamoff>(max_config_bytes))
+    throw usage_error(path + ": " + std::to_string(size) +
+                      " bytes; a configuration may have at most " + std::to_string(max_config_bytes));
+  in.seekg(0);
   std::ostringstream text;
   text << in.rdbuf();
   return parse(text.str(), path);
@@ -128,6 +159,7 @@ void Config::set(std::string_view assignment) {
     throw usage_error("--set expects section.key=value, got '" + std::string(assignment) + "'");
   toml::table parsed;
   try {
+    check_size(value, "--set " + section + "." + key);
     parsed = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
     parsed = toml::table{{"v", value}};

@@ -1,6 +1,7 @@
 #include "ensembles/config/observer_config.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 
 #include "core/error.hpp"
@@ -8,14 +9,24 @@
 namespace qmaps {
 namespace {
 
-// An axis over [lo, hi) with `bins` bins: lo < hi and bins > 0.
+// An axis over [lo, hi) with `bins` bins: lo < hi, both finite, and a finite width and bins per
+// unit (else every point, or the bin arithmetic, would be infinite).
 Axis axis(const Config& config, const std::string& section, const std::string& coordinate,
           const std::string& range_key, std::int64_t bins) {
   const auto [lo, hi] = config.range(section, range_key);
   if (!(lo < hi))
     throw usage_error(config.where(section, range_key) + " is an empty range: it needs lo < hi");
+  const double width = hi - lo, per_unit = static_cast<double>(bins) / width;
+  if (!std::isfinite(lo) || !std::isfinite(hi) || !std::isfinite(width) ||
+      !std::isfinite(per_unit) || !std::isnormal(width))
+    throw usage_error(config.where(section, range_key) +
+                      " must be finite, with a finite width of which each bin is a normal number");
   return {coordinate, lo, hi, bins};
 }
+
+// The most cells a histogram may have (a 8192 x 8192 density): each thread keeps its own counts
+// and 16-bit tallies, 10 bytes a cell.
+constexpr std::int64_t max_cells = std::int64_t{1} << 26;
 
 // `bins`: n (every axis) or [nx, ny]; each > 0.
 std::vector<std::int64_t> bins_of(const Config& config, const std::string& section,
@@ -31,8 +42,14 @@ std::vector<std::int64_t> bins_of(const Config& config, const std::string& secti
     throw usage_error(config.where(section, "bins") + " must be a number or [" +
                       (axes == 1 ? "n" : "nx, ny") + "]");
   }
-  for (auto b : bins)
+  std::int64_t cells = 1;
+  for (auto b : bins) {
     if (b <= 0) throw usage_error(config.where(section, "bins") + " must be > 0");
+    if (b > max_cells / cells)
+      throw usage_error(config.where(section, "bins") + " asks for more than " +
+                        std::to_string(max_cells) + " cells");
+    cells *= b;
+  }
   return bins;
 }
 
@@ -48,8 +65,13 @@ Coordinate coordinate(const Config& config, const std::string& section, const st
 std::string unique_name(const Config& config, const std::string& section,
                         std::set<std::string>& names) {
   const std::string name = config.string(section, "name");
-  if (name.empty() || name.find('/') != std::string::npos || name.find('.') != std::string::npos)
-    throw usage_error(config.where(section, "name") + " must be non-empty, without '/' or '.'");
+  const bool printable = std::all_of(name.begin(), name.end(), [](char c) {
+    return static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+  });
+  if (name.empty() || name.size() > 255 || !printable || name.find('/') != std::string::npos ||
+      name.find('.') != std::string::npos)
+    throw usage_error(config.where(section, "name") +
+                      " must be 1 to 255 printable characters, without '/' or '.'");
   if (!names.insert(name).second)
     throw usage_error(config.where(section, "name") + ": '" + name + "' is used twice");
   return name;

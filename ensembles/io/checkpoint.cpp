@@ -1,6 +1,9 @@
 #include "ensembles/io/checkpoint.hpp"
 
+#include <cmath>
+
 #include "core/error.hpp"
+#include "core/escape.hpp"
 #include "core/version.hpp"
 
 namespace qmaps {
@@ -19,8 +22,20 @@ void read_column(const h5::Group& g, const std::string& name, std::span<T> out) 
   g.read_part<T>(name, 0, out);
 }
 
+Error bad(const h5::Group& g, const std::string& what) {
+  return Error(ExitCode::io, "HDF5: " + g.path() + ": " + what);
+}
+
+// Counts of a histogram as a run leaves them: 0 ≤ count ≤ 2^53 (no sum of them can overflow).
 void restore_histogram(const h5::Group& g, const std::string& counts, Histogram& h) {
-  h.restore(g.read_int64(counts), g.attr_int64("underflow"), g.attr_int64("overflow"));
+  const auto cells = g.read_int64(counts, h.counts().size());
+  const std::int64_t under = g.attr_int64("underflow"), over = g.attr_int64("overflow");
+  constexpr std::int64_t most = std::int64_t{1} << 53;
+  for (const std::int64_t c : cells)
+    if (c < 0 || c > most) throw bad(g, counts + " holds the count " + std::to_string(c));
+  if (under < 0 || under > most || over < 0 || over > most)
+    throw bad(g, "underflow or overflow out of range");
+  h.restore(cells, under, over);
 }
 
 }  // namespace
@@ -75,6 +90,26 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e) {
     read_column(g, "initial", e.invariant_initial[k].span().first(n));
     read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().first(n));
   }
+  // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and finite states,
+  // invariants and drifts for the orbits that have not escaped.
+  if (e.step < 0) throw bad(state, "step " + std::to_string(e.step));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t at = e.escape_step[i];
+    if (at < -1 || at > e.step)
+      throw bad(escape, "orbit " + std::to_string(i) + " escaped at step " + std::to_string(at));
+    if (at >= 0 && (e.escape_reason[i] == 0 || e.escape_reason[i] > last_escape_reason))
+      throw bad(escape, "orbit " + std::to_string(i) + " has escape reason " +
+                            std::to_string(e.escape_reason[i]));
+    if (at >= 0) continue;
+    bool finite = true;
+    for (std::size_t k = 0; k < names.size(); ++k) finite = finite && std::isfinite(e.state[k][i]);
+    for (std::size_t k = 0; k < inv_names.size(); ++k)
+      finite = finite && std::isfinite(e.invariant_initial[k][i]) &&
+               std::isfinite(e.invariant_max_drift[k][i]) && e.invariant_max_drift[k][i] >= 0;
+    if (!finite)
+      throw bad(root, "orbit " + std::to_string(i) +
+                          " has not escaped but holds a value that is not finite (or a negative drift)");
+  }
   e.fill_padding();
 }
 
@@ -89,13 +124,23 @@ void restore_observers(const h5::Group& root, Observers& o) {
   for (auto& s : o.sections) {
     const auto g = sections.open_group(s.name);
     restore_histogram(g, "density", s.density);
-    const auto orbit = g.read_int64("orbit"), step = g.read_int64("step");
-    const auto x = g.read_doubles("x"), y = g.read_doubles("y");
-    if (step.size() != orbit.size() || x.size() != orbit.size() || y.size() != orbit.size())
-      throw Error(ExitCode::io, "HDF5: the datasets of " + g.path() + " differ in length");
-    s.points.clear();
-    for (std::size_t i = 0; i < orbit.size(); ++i) s.points.push_back({orbit[i], step[i], x[i], y[i]});
+    // The points kept per orbit, each within the cap, say how many points there are.
     read_column(g, "kept", std::span<std::int64_t>(*s.kept));
+    std::size_t points = 0;
+    for (const std::int64_t k : *s.kept) {
+      if (k < 0 || k > s.cap) throw bad(g, "an orbit keeps " + std::to_string(k) + " points");
+      points += static_cast<std::size_t>(k);
+    }
+    const auto orbit = g.read_int64("orbit", points), step = g.read_int64("step", points);
+    const auto x = g.read_doubles("x", points), y = g.read_doubles("y", points);
+    s.points.clear();
+    s.runs.clear();
+    for (std::size_t i = 0; i < points; ++i) {
+      if (orbit[i] < 0 || static_cast<std::size_t>(orbit[i]) >= s.kept->size() || step[i] < 1 ||
+          !std::isfinite(x[i]) || !std::isfinite(y[i]))
+        throw bad(g, "point " + std::to_string(i) + " is not one a run records");
+      s.points.push_back({orbit[i], step[i], x[i], y[i]});
+    }
   }
 }
 

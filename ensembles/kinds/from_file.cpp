@@ -4,7 +4,9 @@
 #include <cstring>
 
 #include "core/error.hpp"
+#include "core/escape.hpp"
 #include "core/io/h5.hpp"
+#include "ensembles/io/file_orbits.hpp"
 
 namespace qmaps {
 namespace {
@@ -57,29 +59,31 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
       throw usage_error("'" + path_ + "' holds a run of " + map_text(map, file_names, file_values) +
                         ", not of this run's " +
                         map_text(std::string(model.name()), names, values));
-    orbits_ = static_cast<std::size_t>(root.attr_int64("orbits"));
+    const std::size_t columns = final_ ? model.state_names().size() + 2 : phase_names.size();
+    orbits_ = orbits_in(root, path_, 8.0 * static_cast<double>(columns));
     step_ = root.attr_int64("steps");
     if (final_) {
       const auto state = root.open_group("final").open_group("state");
       for (const auto& name : model.state_names())
-        columns_.push_back(state.read_doubles(std::string(name)));
+        columns_.push_back(state.read_doubles(std::string(name), orbits_));
       const auto escape = root.open_group("escape");
-      escape_step_ = escape.read_int64("step");
-      escape_reason_ = escape.read_int64("reason");
-      if (escape_step_.size() != orbits_ || escape_reason_.size() != orbits_)
-        throw Error(ExitCode::io, "'" + path_ + "': /escape does not hold " +
-                                      std::to_string(orbits_) + " orbits");
+      escape_step_ = escape.read_int64("step", orbits_);
+      escape_reason_ = escape.read_int64("reason", orbits_);
+      for (std::size_t i = 0; i < orbits_; ++i)
+        if (escape_step_[i] >= 0 &&
+            (escape_reason_[i] < 1 || escape_reason_[i] > last_escape_reason))
+          throw Error(ExitCode::io, "'" + path_ + "': orbit " + std::to_string(i) +
+                                        " escaped with the unknown reason " +
+                                        std::to_string(escape_reason_[i]));
     } else {
       const auto initial = root.open_group("initial");
       for (const auto name : phase_names)
-        columns_.push_back(initial.read_doubles(std::string(name)));
+        columns_.push_back(initial.read_doubles(std::string(name), orbits_));
     }
-    for (const auto& column : columns_)
-      if (column.size() != orbits_)
-        throw Error(ExitCode::io, "'" + path_ + "': a dataset of /" + group + " does not hold " +
-                                      std::to_string(orbits_) + " orbits");
   } catch (const Error& e) {
-    throw Error(e.code(), where + e.what());
+    const std::string what = e.what();
+    const std::string file = "'" + path_ + "'";
+    throw Error(e.code(), where + (what.find(file) == std::string::npos ? file + ": " : "") + what);
   }
   if (orbits_ == 0) throw usage_error(where + "'" + path_ + "' holds no orbits");
 }

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/io/h5.hpp"
 #include "ensembles/program/commands.hpp"
+#include "ensembles/io/file_orbits.hpp"
 #include "ensembles/program/drift_summary.hpp"
 
 namespace qmaps {
@@ -33,9 +34,15 @@ std::string histogram_text(const h5::Group& h, const std::string& counts) {
          std::to_string(h.attr_int64("overflow")) + " overflow)";
 }
 
-}  // namespace
+// The points a section's group holds: its `orbit` column's length (a one-dimensional dataset).
+std::size_t points_in(const h5::Group& s) {
+  const auto shape = s.shape("orbit");
+  if (shape.size() != 1)
+    throw Error(ExitCode::io, "HDF5: dataset " + s.path() + "/orbit is not one-dimensional");
+  return static_cast<std::size_t>(shape[0]);
+}
 
-int info_command(const std::string& path, std::ostream& out) {
+int describe(const std::string& path, std::ostream& out) {
   const auto file = h5::File::open_read(path);
   const auto root = file.root();
   for (const char* needed : {"schema_version", "map", "orbits", "steps"})
@@ -51,7 +58,8 @@ int info_command(const std::string& path, std::ostream& out) {
       first = false;
     }
   out << ")\n";
-  const auto orbits = root.attr_int64("orbits");
+  // The per-orbit columns read below: the escape reasons, each invariant's initial value and drift.
+  const auto orbits = orbits_in(root, path, 8.0 * (1 + 2 * 8));
   out << "ensemble:   "
       << (root.has_attr("ensemble_description") ? root.attr_string("ensemble_description")
                                                 : root.attr_string("ensemble"))
@@ -62,7 +70,7 @@ int info_command(const std::string& path, std::ostream& out) {
   out << '\n';
 
   const auto escape = root.open_group("escape");
-  const auto reasons = escape.read_int64("reason");
+  const auto reasons = escape.read_int64("reason", orbits);
   std::map<std::int64_t, std::int64_t> by_reason;
   std::vector<std::uint8_t> alive(reasons.size());
   for (std::size_t i = 0; i < reasons.size(); ++i) {
@@ -80,7 +88,8 @@ int info_command(const std::string& path, std::ostream& out) {
   for (const auto& name : invariants.members()) {
     if (name == "image") continue;
     const auto inv = invariants.open_group(name);
-    const auto initial = inv.read_doubles("initial"), drift = inv.read_doubles("max_abs_drift");
+    const auto initial = inv.read_doubles("initial", orbits),
+               drift = inv.read_doubles("max_abs_drift", orbits);
     const DriftSummary s(initial, drift, alive);
     out << "  " << name << std::string(name.size() < 6 ? 6 - name.size() : 1, ' ') << "worst "
         << g(s.percentile(1)) << ", median " << g(s.percentile(0.5)) << '\n';
@@ -101,11 +110,24 @@ int info_command(const std::string& path, std::ostream& out) {
       out << "  " << name << ": " << s.attr_string("plane") << " = "
           << number_text(s.attr_double("value")) << " (" << s.attr_string("direction") << ", "
           << s.attr_string("mode") << "), " << s.attr_int64("crossings") << " crossings, "
-          << s.shape("orbit")[0] << " points kept (cap " << s.attr_int64("cap") << "); "
+          << points_in(s) << " points kept (cap " << s.attr_int64("cap") << "); "
           << histogram_text(s, "density") << '\n';
     }
   }
   return 0;
+}
+
+}  // namespace
+
+// Any failure to read the file names it.
+int info_command(const std::string& path, std::ostream& out) {
+  try {
+    return describe(path, out);
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    if (what.find("'" + path + "'") != std::string::npos) throw;
+    throw Error(e.code(), "'" + path + "': " + what);
+  }
 }
 
 }  // namespace qmaps

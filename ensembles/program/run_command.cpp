@@ -15,6 +15,7 @@
 #include "kernels/catalogue.hpp"
 #include "ensembles/io/checkpoint.hpp"
 #include "ensembles/program/commands.hpp"
+#include "core/memory_limit.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/interrupt.hpp"
 #include "ensembles/io/output.hpp"
@@ -48,12 +49,11 @@ void check_memory(const Config& config, const Model& model, std::size_t orbits) 
   const double padded = static_cast<double>((orbits + Ensemble::padding - 1) /
                                             Ensemble::padding * Ensemble::padding);
   const double need = padded * bytes_per_orbit(model, config.entries("section"));
-  const double have = static_cast<double>(sysconf(_SC_PHYS_PAGES)) *
-                      static_cast<double>(sysconf(_SC_PAGE_SIZE));
-  if (need > have) {
-    char text[160];
-    std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB; this machine has %.3g GiB",
-                  orbits, need / (1 << 30), have / (1 << 30));
+  const MemoryLimit have = memory_limit();
+  if (need > have.bytes) {
+    char text[200];
+    std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB; %s is %.3g GiB", orbits,
+                  need / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
     throw usage_error(config.where("ensemble", "orbits") + text);
   }
 }

@@ -1,0 +1,16 @@
+#pragma once
+// The memory a run may use: the least of the machine's RAM, the address-space limit
+// (RLIMIT_AS, `ulimit -v`) and the cgroup's memory.max, where they are set. Sizes are checked
+// against it before anything is allocated.
+#include <string>
+
+namespace qmaps {
+
+struct MemoryLimit {
+  double bytes;
+  std::string what;  // "this machine's RAM", "the address-space limit (ulimit -v)", …
+};
+
+MemoryLimit memory_limit();
+
+}  // namespace qmaps
