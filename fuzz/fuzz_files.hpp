@@ -1,0 +1,76 @@
+#pragma once
+// What the HDF5 fuzz targets share: a scratch folder with a small valid run file (base.h5) and
+// checkpoint (stopped.h5.ckpt) of a Suris run with a section, made once by qmaps itself, and the
+// copy of one that each input alters (fuzz/hostile_file.hpp).
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "ensembles/program/commands.hpp"
+
+namespace qmaps::fuzz {
+
+inline const char* base_config = R"([map]
+name = "suris"
+A = 0.7
+B = 0.3
+alpha = 0.9
+h = 0.1
+
+[ensemble]
+kind = "box"
+orbits = 16
+seed = 1
+q1 = [-0.5, 0.5]
+q2 = [-0.5, 0.5]
+p1 = [-0.5, 0.5]
+p2 = [-0.5, 0.5]
+
+[run]
+steps = 12
+
+[[histogram]]
+name = "q1q2"
+x = "q1"
+y = "q2"
+x_range = [-1.0, 1.0]
+y_range = [-1.0, 1.0]
+bins = 8
+
+[[section]]
+name = "s"
+plane = "q1"
+x = "q2"
+y = "p2"
+cap = 3
+bins = 8
+x_range = [-1.0, 1.0]
+y_range = [-1.0, 1.0]
+)";
+
+// The scratch folder (made once, the working directory from then on).
+inline std::filesystem::path scratch() {
+  static const std::filesystem::path dir = [] {
+    char name[] = "/tmp/qmaps-fuzz-XXXXXX";
+    const std::filesystem::path d = mkdtemp(name);
+    std::filesystem::current_path(d);
+    std::ofstream("base.toml") << base_config;
+    std::ostringstream log;
+    RunOptions run;
+    run.config_path = "base.toml";
+    run.out = "base.h5";
+    run.threads = 1;
+    run.quiet = true;
+    if (run_command(run, log) != 0) std::abort();
+    setenv("QMAPS_SIGNAL_AT_STEP", "6:TERM", 1);
+    run.out = "stopped.h5";
+    if (run_command(run, log) != 5) std::abort();
+    unsetenv("QMAPS_SIGNAL_AT_STEP");
+    return d;
+  }();
+  return dir;
+}
+
+}  // namespace qmaps::fuzz
