@@ -2,7 +2,8 @@
 of a checkpoint with exit 3 and a message naming the file and the reason, and leaves neither the
 file nor its temporary; SIGHUP
 (a dropped session) stops the run with a checkpoint as SIGTERM does, and the run resumes; an
-ensemble beyond the address-space limit is refused before it is allocated."""
+ensemble beyond the address-space limit is refused before it is allocated; an output name too
+long for its derived names is refused before the run; dead processes' temporaries are removed."""
 import os
 import pathlib
 import resource
@@ -72,6 +73,30 @@ class Faults(unittest.TestCase):
             self.assertIn("orbits need about", r.stderr)
             self.assertIn("the address-space limit (ulimit -v) is 2 GiB", r.stderr)
             self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
+
+
+    def test_an_output_name_whose_checkpoint_name_is_too_long_is_refused_before_the_run(self):
+        with tempfile.TemporaryDirectory() as d:
+            args = self.config(d, 100, 10)
+            args[args.index("out.h5")] = "o" * 240 + ".h5"  # legal, but not with ".ckpt.tmp-<pid>"
+            r = run(d, *args)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("has 243 bytes; its checkpoint's temporary needs", r.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
+
+    def test_temporaries_of_dead_processes_are_removed_by_the_next_run(self):
+        with tempfile.TemporaryDirectory() as d:
+            dead = subprocess.Popen(["true"])
+            dead.wait()
+            stale = [f"out.h5.tmp-{dead.pid}", f"out.h5.ckpt.tmp-{dead.pid}"]
+            alive = f"out.h5.tmp-{os.getpid()}"  # a live process's: kept
+            for name in stale + [alive]:
+                (pathlib.Path(d) / name).write_bytes(b"partial")
+            args = self.config(d, 200, 20) + ["--set", "run.checkpoint_every=10"]
+            r = run(d, *args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            names = sorted(p.name for p in pathlib.Path(d).iterdir())
+            self.assertEqual(names, sorted(["config.toml", "out.h5", alive]))
 
 
 if __name__ == "__main__":

@@ -2,12 +2,15 @@
 
 #include <algorithm>
 
+#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <type_traits>
 
 #include "core/error.hpp"
@@ -346,11 +349,34 @@ Group File::root() const {
                "/", deflate_);
 }
 
+namespace {
+
+// Removes the temporaries "<path>.tmp-<pid>" that processes now dead left (killed with SIGKILL, or
+// stopped by a second signal): a run to the same output never leaves them behind for good.
+void remove_stale_temporaries(const std::string& path) {
+  const auto slash = path.rfind('/');
+  const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
+  const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp-";
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) continue;
+    const pid_t pid = static_cast<pid_t>(std::stol(digits));
+    if (pid > 0 && pid != getpid() && kill(pid, 0) != 0 && errno == ESRCH)
+      std::filesystem::remove(entry.path(), error);
+  }
+}
+
+}  // namespace
+
 AtomicFile::AtomicFile(std::string path)
     : path_(std::move(path)), temporary_(path_ + ".tmp-" + std::to_string(getpid())) {
   struct stat info;
   if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
     throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
+  remove_stale_temporaries(path_);
 }
 
 File AtomicFile::create_hdf5(int deflate) const {

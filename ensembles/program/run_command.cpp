@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <climits>
 #include <csignal>
 #include <chrono>
 #include <cstdio>
@@ -112,6 +113,16 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.image = invariant_image_from_config(config, *r.model);
 
   r.path = config.string("output", "file");
+  // Every name the run derives from the output's must be legal before the run starts: the
+  // longest is the checkpoint's temporary, "<name>.ckpt.tmp-<pid>".
+  const auto slash = r.path.rfind('/');
+  const std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
+  const std::size_t longest = name.size() + std::strlen(checkpoint_suffix) + std::strlen(".tmp-") + 10;
+  if (name.empty() || longest > NAME_MAX)
+    throw usage_error(config.where("output", "file") + ": the name '" + name + "' has " +
+                      std::to_string(name.size()) + " bytes; its checkpoint's temporary needs " +
+                      std::to_string(longest - name.size()) + " more and a name may have at most " +
+                      std::to_string(NAME_MAX));
   if (r.path.empty()) throw usage_error(config.where("output", "file") + " must not be empty");
   r.per_orbit = config.boolean_or("output", "per_orbit", true);
   const std::string compression = config.string_or("output", "compression", "none");
