@@ -152,7 +152,7 @@ TEST_F(Cli, BadRunSettingsAreRejected) {
                   {"run.chains must be 1, 2, 4 or 8"});
   expect_rejected(run_config(config, {"--set", "ensemble.q1=[1, 0]"}), 2, {"empty range"});
   expect_rejected(run_config(config, {"--set", "ensemble.start=leapfrog"}), 2,
-                  {"unknown start rule 'leapfrog'"});
+                  {"--set ensemble.start: unknown start rule 'leapfrog'"});
 }
 
 TEST_F(Cli, UnknownConfigKeyNamesItsLine) {
@@ -233,6 +233,11 @@ TEST_F(Cli, BadObserverConfigurationIsRejectedNamingTheKey) {
   // Bins whose product overflows, and ranges whose width or bins per unit are not finite.
   expect_rejected(run_config(config + histogram + "bins = [4294967296, 4294967296]\n"), 2,
                   {"[histogram[0]] bins asks for more than 67108864 cells"});
+  // The histograms together: each thread keeps a copy of every one.
+  expect_rejected(run_config(config + histogram + "bins = [8192, 8192]\n" +
+                             with_line(histogram, "name = ", "name = \"other\"") + "bins = 2\n"),
+                  2, {"[histogram[1]] bins: 4 cells, with the 67108864 of the histograms and "
+                      "sections before, exceed 67108864 cells in all"});
   expect_rejected(run_config(with_line(config + histogram, "x_range = ", "x_range = [0.0, 1e-320]")),
                   2, {"[histogram[0]] x_range must be finite"});
   expect_rejected(run_config(with_line(config + histogram, "x_range = ", "x_range = [-1e308, 1e308]")),
@@ -438,6 +443,9 @@ TEST_F(Cli, BadEnsembleOfEveryKindIsRejectedWithoutOutput) {
   rejected(kinds::kGrid, {"--set", "ensemble.q2=[0, 1]"}, 2,
            {"--set ensemble.q2 must be one number: the grid's other coordinates are fixed"});
   rejected(kinds::kGrid, {"--set", "ensemble.orbits=16"}, 2, {"set [ensemble] points instead"});
+  // a grid beyond memory: its points are named, not orbits
+  rejected(kinds::kGrid, {"--set", "ensemble.points=[100000000, 100000000]"}, 2,
+           {"--set ensemble.points: 10000000000000000 orbits need about"});
   // shell: E below the potential's minimum (random and grid), a range for the solved coordinate
   rejected(kinds::kShell, {"--set", "ensemble.energy=-0.1"}, 2,
            {"--set ensemble.energy: orbit 0 found no point of H = -0.1 in 1000 draws"});

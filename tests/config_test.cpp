@@ -113,6 +113,15 @@ TEST(Config, UnknownSectionNamesSectionAndLine) {
   EXPECT_EQ(usage_message([&] { c.reject_unknown(); }), "cfg.toml:3: unknown section [runn]");
 }
 
+// A section the file lacks, made by --set, is blamed on the --set, not on a line of the file.
+TEST(Config, UnknownSectionMadeBySetNamesTheSet) {
+  Config c = Config::parse("[run]\nsteps = 5\n", "cfg.toml");
+  c.set("runn.steps=6");
+  c.integer("run", "steps");
+  EXPECT_EQ(usage_message([&] { c.reject_unknown(); }), "--set runn.steps: unknown section [runn]");
+  EXPECT_EQ(c.where("runn"), "--set runn.steps: [runn]");
+}
+
 TEST(Config, EveryKeyReadMeansNothingUnknown) {
   Config c = Config::parse("[map]\nA = 1\nB = 2\n[run]\nsteps = 5\n", "cfg.toml");
   EXPECT_EQ(c.keys("map").size(), 2u);

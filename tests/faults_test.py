@@ -3,8 +3,14 @@ of a checkpoint with exit 3 and a message naming the file and the reason, and le
 file nor its temporary; SIGHUP
 (a dropped session) stops the run with a checkpoint as SIGTERM does, and the run resumes; an
 ensemble beyond the address-space limit is refused before it is allocated; an output name too
-long for its derived names is refused before the run; dead processes' temporaries are removed."""
+long for its derived names is refused before the run; dead processes' temporaries are removed;
+a second run to an output being written is refused and leaves the first run's files alone; a
+signal while the initial conditions are drawn or enumerated ends the process by that signal,
+with a message and nothing left; a shell grid too large for memory is refused before it is
+enumerated."""
 import os
+import signal
+import time
 import pathlib
 import resource
 import subprocess
@@ -97,6 +103,64 @@ class Faults(unittest.TestCase):
             self.assertEqual(r.returncode, 0, r.stderr)
             names = sorted(p.name for p in pathlib.Path(d).iterdir())
             self.assertEqual(names, sorted(["config.toml", "out.h5", alive]))
+
+    def test_a_second_run_to_an_output_being_written_is_refused(self):
+        with tempfile.TemporaryDirectory() as d:
+            lock = pathlib.Path(d) / "out.h5.lock"
+            first = subprocess.Popen([str(small_run.BINARY), *self.config(d, 20000, 1000000)],
+                                     cwd=d, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                                     text=True)
+            try:
+                for _ in range(600):  # the lock is taken once the ensemble is drawn
+                    if lock.exists() and lock.read_text() == str(first.pid):
+                        break
+                    time.sleep(0.05)
+                self.assertEqual(lock.read_text(), str(first.pid))
+                time.sleep(0.5)  # past the drawing of its 20000 orbits (milliseconds): stepping
+                r = run(d, *self.config(d, 100, 10))
+                self.assertEqual(r.returncode, 3, r.stderr)
+                self.assertIn(f"output 'out.h5': another qmaps run (process {first.pid}) is "
+                              "writing it", r.stderr)
+            finally:
+                first.send_signal(signal.SIGINT)
+                _, err = first.communicate(timeout=120)
+            self.assertEqual(first.returncode, 5, err)
+            # The first run's checkpoint is whole and its lock gone; the refused runs left nothing.
+            names = sorted(p.name for p in pathlib.Path(d).iterdir())
+            self.assertEqual(names, ["config.toml", "out.h5.ckpt"])
+
+    def test_a_signal_while_drawing_ends_the_process_by_it_and_leaves_nothing(self):
+        with tempfile.TemporaryDirectory() as d:
+            # No draw reaches H = -1 and max_draws is beyond reach: the first orbit draws forever.
+            config = pathlib.Path(d) / "config.toml"
+            text = small_run.PRESET.read_text().replace('kind = "box"', 'kind = "shell"')
+            text = text.replace("p2 = [-0.5, 0.5]\n", "energy = -1.0\nmax_draws = 9000000000000000000\n", 1)
+            config.write_text(text)
+            process = subprocess.Popen(
+                [str(small_run.BINARY), "run", str(config), "--set", "ensemble.orbits=100",
+                 "--out", "out.h5", "--quiet"], cwd=d, stderr=subprocess.PIPE, text=True)
+            time.sleep(1.0)
+            process.send_signal(signal.SIGINT)
+            _, err = process.communicate(timeout=30)
+            self.assertEqual(process.returncode, -signal.SIGINT, err)
+            self.assertIn("SIGINT while drawing the shell's initial conditions: stopped before "
+                          "the run began; nothing was written", err)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
+
+    def test_a_shell_grid_beyond_memory_is_refused_before_it_is_enumerated(self):
+        with tempfile.TemporaryDirectory() as d:
+            config = pathlib.Path(d) / "config.toml"
+            text = small_run.PRESET.read_text().replace('kind = "box"', 'kind = "shell"')
+            text = text.replace("orbits = ", "# orbits = ").replace(
+                "p2 = [-0.5, 0.5]\n", 'energy = 0.1\nsampling = "grid"\npoints = 3000\n', 1)
+            config.write_text(text)
+            t = time.monotonic()
+            r = run(d, "run", str(config), "--out", "out.h5", "--quiet")
+            self.assertLess(time.monotonic() - t, 10)
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("[ensemble] points: 27000000000 grid points, each of which may become "
+                          "an orbit, need more than", r.stderr)
+            self.assertEqual(sorted(p.name for p in pathlib.Path(d).iterdir()), ["config.toml"])
 
 
 if __name__ == "__main__":

@@ -12,6 +12,13 @@ bool Observers::sections_need_momentum() const {
   return std::ranges::any_of(sections, [](const Section& s) { return s.needs_momentum(); });
 }
 
+std::size_t Observers::cells() const {
+  std::size_t n = 0;
+  for (const auto& d : densities) n += d.histogram.counts().size();
+  for (const auto& s : sections) n += s.density.counts().size();
+  return n;
+}
+
 Observers Observers::empty_copy() const {
   Observers o;
   for (const auto& d : densities) o.densities.push_back(d.empty_copy());

@@ -19,6 +19,7 @@ struct Observers {
   bool empty() const { return densities.empty() && sections.empty(); }
   bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
   bool sections_need_momentum() const;
+  std::size_t cells() const;  // of every histogram (the densities' and the sections')
   Observers empty_copy() const;
   void merge(Observers&& partial);  // takes the partial's points, in (orbit, step) order
   void merge(std::vector<Observers>&& partials);  // the same, one after the other

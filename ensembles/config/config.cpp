@@ -240,9 +240,20 @@ std::string Config::where(std::string_view section, std::string_view key) const 
 }
 
 std::string Config::where(std::string_view section) const {
+  if (const auto set = set_in(section)) return "--set " + *set + ": [" + std::string(section) + "]";
   const auto* s = doc_->section_table(section);
   return source_ + ":" + std::to_string(s ? s->source().begin.line : 0) + ": [" +
          std::string(section) + "]";
+}
+
+std::optional<std::string> Config::set_in(std::string_view section) const {
+  // A table the file lacks and --set made: its source has no line.
+  const auto* s = doc_->section_table(section);
+  if (s && s->source().begin.line != 0) return std::nullopt;
+  const std::string prefix = std::string(section) + ".";
+  for (const auto& name : overridden_)
+    if (name.compare(0, prefix.size(), prefix) == 0) return name;
+  return std::nullopt;
 }
 
 double Config::number(std::string_view section, std::string_view key) const {
@@ -365,9 +376,11 @@ std::vector<std::string> Config::keys(std::string_view section) const {
 void Config::reject_unknown() const {
   for (const auto& [section, value] : doc_->table) {
     const std::string name(section.str());
-    if (!used_sections_.count(name))
+    if (!used_sections_.count(name)) {
+      if (const auto set = set_in(name)) throw usage_error("--set " + *set + ": unknown section [" + name + "]");
       throw usage_error(source_ + ":" + std::to_string(value.source().begin.line) +
                         ": unknown section [" + name + "]");
+    }
     const auto check = [&](const toml::table& t, const std::string& path) {
       for (const auto& [key, v] : t)
         if (!used_.count(dotted(path, key.str())))

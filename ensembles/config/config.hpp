@@ -65,6 +65,9 @@ class Config {
   std::string where(std::string_view section) const;  // "source:line: [section]"
 
  private:
+  // For a table only --set made (none in the file): the first "section.key" set in it.
+  std::optional<std::string> set_in(std::string_view section) const;
+
   struct Document;  // the parsed TOML (ensembles/config/config.cpp): toml++ stays out of here
   std::unique_ptr<Document> doc_;
   std::string text_;

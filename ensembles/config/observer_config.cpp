@@ -24,13 +24,14 @@ Axis axis(const Config& config, const std::string& section, const std::string& c
   return {coordinate, lo, hi, bins};
 }
 
-// The most cells a histogram may have (a 8192 x 8192 density): each thread keeps its own counts
-// and 16-bit tallies, 10 bytes a cell.
+// The most cells the histograms of a run may have together (one 8192 x 8192 density): each
+// thread keeps its own counts and 16-bit tallies, 10 bytes a cell (Observers::cells).
 constexpr std::int64_t max_cells = std::int64_t{1} << 26;
 
-// `bins`: n (every axis) or [nx, ny]; each > 0.
+// `bins`: n (every axis) or [nx, ny]; each > 0. `total`: the cells of the histograms before
+// this one, to which its own are added.
 std::vector<std::int64_t> bins_of(const Config& config, const std::string& section,
-                                  std::size_t axes, std::int64_t fallback) {
+                                  std::size_t axes, std::int64_t fallback, std::int64_t& total) {
   std::vector<std::int64_t> bins;
   if (!config.has(section, "bins")) {
     bins.assign(axes, fallback);
@@ -50,6 +51,12 @@ std::vector<std::int64_t> bins_of(const Config& config, const std::string& secti
                         std::to_string(max_cells) + " cells");
     cells *= b;
   }
+  if (cells > max_cells - total)
+    throw usage_error(config.where(section, "bins") + ": " + std::to_string(cells) +
+                      " cells, with the " + std::to_string(total) +
+                      " of the histograms and sections before, exceed " +
+                      std::to_string(max_cells) + " cells in all");
+  total += cells;
   return bins;
 }
 
@@ -82,12 +89,13 @@ std::string unique_name(const Config& config, const std::string& section,
 Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits) {
   Observers o;
   std::set<std::string> names;
+  std::int64_t cells = 0;
   for (std::size_t i = 0; i < config.entries("histogram"); ++i) {
     const std::string s = "histogram[" + std::to_string(i) + "]";
     const std::string name = unique_name(config, s, names);
     std::vector<Coordinate> coords = {coordinate(config, s, "x", model)};
     if (config.has(s, "y")) coords.push_back(coordinate(config, s, "y", model));
-    const auto bins = bins_of(config, s, coords.size(), 64);
+    const auto bins = bins_of(config, s, coords.size(), 64, cells);
     std::vector<Axis> axes = {axis(config, s, std::string(coordinate_name(coords[0])), "x_range", bins[0])};
     if (coords.size() == 2)
       axes.push_back(axis(config, s, std::string(coordinate_name(coords[1])), "y_range", bins[1]));
@@ -113,7 +121,7 @@ Observers observers_from_config(const Config& config, const Model& model, std::s
     section.y = coordinate(config, s, "y", model);
     section.cap = config.integer_or(s, "cap", 100);
     if (section.cap < 0) throw usage_error(config.where(s, "cap") + " must be >= 0");
-    const auto bins = bins_of(config, s, 2, 64);
+    const auto bins = bins_of(config, s, 2, 64, cells);
     section.density = Histogram(section.name, {axis(config, s, std::string(coordinate_name(section.x)), "x_range", bins[0]),
                                                axis(config, s, std::string(coordinate_name(section.y)), "y_range", bins[1])});
     section.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
@@ -138,7 +146,8 @@ std::optional<InvariantImage> invariant_image_from_config(const Config& config,
     return name;
   };
   const std::string x = invariant("x"), y = invariant("y");
-  const auto bins = bins_of(config, s, 2, 128);
+  std::int64_t cells = 0;  // the image is one histogram of the whole ensemble, not per thread
+  const auto bins = bins_of(config, s, 2, 128, cells);
   return InvariantImage{Histogram("invariant_image", {axis(config, s, x, "x_range", bins[0]),
                                                      axis(config, s, y, "y_range", bins[1])})};
 }

@@ -12,6 +12,7 @@
 #include "ensembles/kinds/grid.hpp"
 #include "ensembles/kinds/line.hpp"
 #include "ensembles/kinds/shell.hpp"
+#include "ensembles/program/interrupt.hpp"
 
 namespace qmaps {
 
@@ -93,6 +94,7 @@ std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start ru
   const std::size_t n = orbits();
   std::vector<Phase> points(std::min(n, part));
   for (std::size_t first = 0; first < n; first += part) {
+    stop_if_interrupted("drawing the initial conditions");
     const auto some = std::span<Phase>(points).first(std::min(part, n - first));
     rejected += generate(*generator_, first, some);
     sink(first, some);

@@ -3,12 +3,16 @@
 #include <cmath>
 
 #include "core/error.hpp"
+#include "core/memory_limit.hpp"
 #include "core/rng.hpp"
+#include "ensembles/program/interrupt.hpp"
 
 namespace qmaps {
 namespace {
 
 constexpr std::uint64_t shell_stream = 0x7368656c6c;  // "shell"
+// What a grid point that becomes an orbit holds at least: its index, its state.
+constexpr double bytes_per_candidate = 8 + 4 * 8;
 
 // The smallest x ≥ 0 with a x² + b x + c = 0, if any.
 std::optional<double> smallest_nonnegative_root(double a, double b, double c) {
@@ -70,7 +74,16 @@ Shell::Shell(const Config& config, const Potential& potential) : potential_(pote
                       ": a shell grid has one orbit per accepted point; set points instead");
   lattice_ = Lattice::from_config(config, axes);
   const std::size_t n = lattice_->size();
+  // Every point may lie on the surface and become an orbit (its index kept, then its state):
+  // the grid must fit in memory before it is enumerated.
+  const MemoryLimit have = memory_limit();
+  if (static_cast<double>(n) * bytes_per_candidate > have.bytes)
+    throw usage_error(config.where("ensemble", "points") + ": " + std::to_string(n) +
+                      " grid points, each of which may become an orbit, need more than " +
+                      number_text(static_cast<double>(n) * bytes_per_candidate / (1 << 30)) +
+                      " GiB; " + have.what + " is " + number_text(have.bytes / (1 << 30)) + " GiB");
   for (std::size_t j = 0; j < n; ++j) {
+    if (j % 4096 == 0) stop_if_interrupted("enumerating the shell's grid");
     std::array<double, 4> x{};
     lattice_->place(j, x);
     if (solve(x)) accepted_.push_back(j);
@@ -112,6 +125,7 @@ Drawn Shell::draw(std::size_t orbit) const {
   }
   const OrbitRandom random(seed_, shell_stream);
   for (std::uint64_t k = 0; k < max_draws_; ++k) {
+    if (k % 4096 == 4095) stop_if_interrupted("drawing the shell's initial conditions");
     const auto u = random.uniform4(orbit, k);
     std::array<double, 4> x{};
     for (std::size_t c = 0; c < 4; ++c) {

@@ -47,6 +47,16 @@ const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
 }
 
+Interrupted::Interrupted(int sig, const std::string& doing)
+    : Error(ExitCode::interrupted, std::string(signal_name(sig)) + " while " + doing +
+                                       ": stopped before the run began; nothing was written"),
+      signal_(sig) {}
+
+void stop_if_interrupted(const char* doing) {
+  if (received != 0) [[unlikely]]
+    throw Interrupted(received, doing);
+}
+
 SelfSignal SelfSignal::from_environment() {
   SelfSignal s;
   const char* value = std::getenv("QMAPS_SIGNAL_AT_STEP");

@@ -1,7 +1,12 @@
 #pragma once
 // SIGINT, SIGTERM and SIGHUP during a run: the handler only records the first, which the run
-// reads between segments (where it writes a checkpoint and stops). A second signal ends the
+// reads between segments (where it writes a checkpoint and stops), and the start-up's long loops
+// read through stop_if_interrupted (where there is nothing to keep yet). A second signal ends the
 // process at once.
+#include <string>
+
+#include "core/error.hpp"
+
 namespace qmaps {
 
 class InterruptGuard {
@@ -15,6 +20,20 @@ class InterruptGuard {
 };
 
 const char* signal_name(int sig);  // "SIGINT", "SIGTERM", "SIGHUP"
+
+// A signal during the start-up (drawing or enumerating the initial conditions): nothing is
+// written; main reports it and ends the process by that signal.
+class Interrupted : public Error {
+ public:
+  Interrupted(int sig, const std::string& doing);
+  int signal() const { return signal_; }
+
+ private:
+  int signal_;
+};
+
+// Throws Interrupted if a signal arrived under an InterruptGuard; cheap enough for every draw.
+void stop_if_interrupted(const char* doing);
 
 // A signal the run sends itself on reaching a step, so that an interruption can be reproduced
 // exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM, HUP or KILL), see docs/cli.md.

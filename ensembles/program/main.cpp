@@ -11,6 +11,7 @@
 #include "core/error.hpp"
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
+#include "ensembles/program/interrupt.hpp"
 
 int main(int argc, char** argv) {
   // A file-size limit makes a write fail (an io error, exit 3) instead of killing the process.
@@ -84,6 +85,11 @@ int main(int argc, char** argv) {
     if (*info_cmd) return qmaps::info_command(info_path, std::cout);
     if (*check_cmd) return qmaps::check_command(check, std::cout);
     return qmaps::list_command(std::cout);
+  } catch (const qmaps::Interrupted& e) {
+    std::cerr << "qmaps: " << e.what() << '\n';
+    std::signal(e.signal(), SIG_DFL);  // ended by the signal, as the caller asked
+    std::raise(e.signal());
+    return 128 + e.signal();
   } catch (const qmaps::Error& e) {
     std::cerr << "qmaps: error: " << e.what() << '\n';
     if (e.code() == qmaps::ExitCode::io) {

@@ -20,6 +20,7 @@
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/interrupt.hpp"
 #include "ensembles/io/output.hpp"
+#include "ensembles/io/output_lock.hpp"
 #include "ensembles/program/progress.hpp"
 
 namespace qmaps {
@@ -45,18 +46,31 @@ double bytes_per_orbit(const Model& model, std::size_t sections) {
                              16 * model.invariant_names().size() + 8 * sections);
 }
 
-// Refuses, before allocating, an ensemble that cannot fit in this machine's memory.
-void check_memory(const Config& config, const Model& model, std::size_t orbits) {
+// Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits and
+// the histograms' cells (`cells`: 10 bytes each, counts and tallies, in every thread's partial
+// and the total).
+void check_memory(const Config& config, const Model& model, std::size_t orbits, std::size_t cells,
+                  int threads) {
   const double padded = static_cast<double>((orbits + Ensemble::padding - 1) /
                                             Ensemble::padding * Ensemble::padding);
-  const double need = padded * bytes_per_orbit(model, config.entries("section"));
+  const double for_orbits = padded * bytes_per_orbit(model, config.entries("section"));
+  const double for_cells = 10.0 * static_cast<double>(cells) * (threads + 1);
   const MemoryLimit have = memory_limit();
-  if (need > have.bytes) {
-    char text[200];
-    std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB; %s is %.3g GiB", orbits,
-                  need / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
-    throw usage_error(config.where("ensemble", "orbits") + text);
+  if (for_orbits + for_cells <= have.bytes) return;
+  // The key that sets the ensemble's size: a grid's points, else its orbits.
+  const char* key = config.has("ensemble", "points") ? "points" : "orbits";
+  char text[300];
+  std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB", orbits,
+                for_orbits / (1 << 30));
+  std::string message = config.where("ensemble", key) + text;
+  if (cells > 0) {
+    std::snprintf(text, sizeof text,
+                  ", and the histograms' %zu cells in %d threads' partials and the total %.3g GiB",
+                  cells, threads, for_cells / (1 << 30));
+    message += text;
   }
+  std::snprintf(text, sizeof text, "; %s is %.3g GiB", have.what.c_str(), have.bytes / (1 << 30));
+  throw usage_error(message + text);
 }
 
 // A run as its resolved configuration and the command line describe it (the ensemble aside).
@@ -88,8 +102,12 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   Run r;
   r.model = std::move(model);
   r.orbits = orbits;
-  check_memory(config, *r.model, orbits);
-  r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
+  check_memory(config, *r.model, orbits, 0, 1);  // before the observers' per-orbit counts
+  try {
+    r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
+  } catch (const Error& e) {
+    throw usage_error(config.where("ensemble", "start") + ": " + e.what());
+  }
 
   r.plan.total = r.plan.last = config.integer("run", "steps");
   if (r.plan.total < 0) throw usage_error(config.where("run", "steps") + " must be >= 0");
@@ -110,6 +128,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
   r.observers = observers_from_config(config, *r.model, orbits);
+  check_memory(config, *r.model, orbits, r.observers.cells(), r.x.threads);
   r.image = invariant_image_from_config(config, *r.model);
 
   r.path = config.string("output", "file");
@@ -291,6 +310,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
 
     h5::AtomicFile output(r.path);
     auto file = output.create_hdf5(r.deflate);
+    const OutputLock lock(r.path);
     Ensemble e = r.model->ensemble(r.orbits);
     read_ensemble(root, *r.model, e);
     if (e.step < 0 || e.step >= r.plan.total)
@@ -331,6 +351,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
 
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);  // fails now, not after the run
+  const OutputLock lock(r.path);              // a second run to this output is refused
 
   // The orbits start by parts; /initial is written as they do, and no full copy is kept.
   Ensemble e = r.model->ensemble(r.orbits);
