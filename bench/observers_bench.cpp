@@ -15,7 +15,7 @@
 namespace qmaps {
 namespace {
 
-Section q1_section(int direction, std::int64_t cap, std::size_t orbits) {
+Section q1_section(int direction, std::int64_t cap, std::size_t orbits, long long steps) {
   Section s;
   s.name = "q1";
   s.plane = Coordinate::q1;
@@ -24,7 +24,7 @@ Section q1_section(int direction, std::int64_t cap, std::size_t orbits) {
   s.y = Coordinate::p2;
   s.cap = cap;
   s.density = Histogram("q1", {{"q2", -1, 1, 128}, {"p2", -1, 1, 128}});
-  s.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+  s.points = std::make_shared<SectionPoints>(orbits, Section::slots_per_orbit(cap, direction, steps));
   return s;
 }
 
@@ -38,8 +38,8 @@ void observe(benchmark::State& state, Isa isa, bool invariants, bool density, in
   // Each iteration observes afresh, as each segment of a run does (its sections' caps anew).
   const auto make = [&] {
     Observers o;
-    if (section == 2) o.sections.push_back(q1_section(0, 50, orbits));  // alone, both ways
-    if (section == 1) o.sections.push_back(q1_section(1, 2, orbits));   // the preset's
+    if (section == 2) o.sections.push_back(q1_section(0, 50, orbits, steps));  // alone, both ways
+    if (section == 1) o.sections.push_back(q1_section(1, 2, orbits, steps));   // the preset's
     if (density)
       o.densities.push_back({Histogram("q1q2", {{"q1", -1, 1, 128}, {"q2", -1, 1, 128}}),
                              {Coordinate::q1, Coordinate::q2}});

@@ -311,12 +311,6 @@ template <class Map, class V, int K>
                    node_values<Map>(c, x.after, section_momentum), first + x.chain * W, x.step);
   };
 
-  // Where each section's points of this block begin: they are put in (orbit, step) order at the end.
-  thread_local std::vector<std::size_t> marks;
-  marks.clear();
-  if (sections)
-    for (const auto& section : observers->sections) marks.push_back(section.points.size());
-
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
     if (sampling) next = std::min(next, next_multiple);
@@ -366,8 +360,6 @@ template <class Map, class V, int K>
     L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
     track[k].store(e, first + k * W);
   }
-  if constexpr (K * W > 1)
-    for (std::size_t i = 0; i < marks.size(); ++i) observers->sections[i].order_by_orbit(marks[i]);
 }
 
 // The scalar reference path: V = double, one orbit at a time, one checked step at a time, no

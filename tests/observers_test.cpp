@@ -37,7 +37,7 @@ Observers observers(std::size_t orbits, std::int64_t cap, bool linear = false) {
   s.y = Coordinate::p2;
   s.cap = cap;
   s.density = Histogram("q1up", {{"q2", -1, 1, 16}, {"p2", -1, 1, 16}});
-  s.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+  s.points = std::make_shared<SectionPoints>(orbits, cap);
   o.sections.push_back(std::move(s));
   return o;
 }
@@ -64,9 +64,9 @@ bool same_bytes(const Observers& a, const Observers& b) {
   }
   for (std::size_t i = 0; i < a.sections.size(); ++i) {
     const auto &x = a.sections[i], &y = b.sections[i];
-    if (x.points.size() != y.points.size() || !std::ranges::equal(x.density.counts(), y.density.counts())) return false;
-    if (!x.points.empty() &&
-        std::memcmp(x.points.data(), y.points.data(), x.points.size() * sizeof(SectionPoint)) != 0)
+    const auto p = x.points->all(), q = y.points->all();
+    if (p.size() != q.size() || !std::ranges::equal(x.density.counts(), y.density.counts())) return false;
+    if (!p.empty() && std::memcmp(p.data(), q.data(), p.size() * sizeof(SectionPoint)) != 0)
       return false;
   }
   return true;
@@ -105,7 +105,7 @@ Section section(std::string name, Coordinate plane, int direction, bool linear, 
   s.y = plane == Coordinate::q1 ? Coordinate::p2 : Coordinate::p1;
   s.cap = cap;
   s.density = Histogram(s.name, {{"x", -1, 1, 16}, {"y", -1, 1, 16}});
-  s.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+  s.points = std::make_shared<SectionPoints>(orbits, cap);
   return s;
 }
 
@@ -153,7 +153,7 @@ TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
     };
     const auto [ref, e0] = expect_every_path_equal(*model, points, plan, make,
                                                    "alpha " + std::to_string(alpha));
-    const auto& pts = ref.sections[0].points;
+    const auto pts = ref.sections[0].points->all();
     ASSERT_FALSE(pts.empty());
     bool first_of_chunk = false, last_of_chunk = false, twice_in_a_chunk = false,
          escape_after = false;
@@ -180,7 +180,7 @@ TEST(Observers, SectionWithCapZeroCountsItsDensityOnlyOnEveryPath) {
     return o;
   };
   const auto [ref, e0] = expect_every_path_equal(*model, points, plan_of(600, 50), make, "cap 0");
-  EXPECT_TRUE(ref.sections[0].points.empty());
+  EXPECT_EQ(ref.sections[0].points->size(), 0u);
   EXPECT_GT(total(ref.sections[0].density), 1000);
 }
 
@@ -195,7 +195,7 @@ TEST(Observers, SeveralSectionsAndDensitiesAtOnceAreBitIdenticalOnEveryPath) {
     return o;
   };
   const auto [ref, e0] = expect_every_path_equal(*model, points, plan_of(500, 10), two, "two");
-  EXPECT_FALSE(ref.sections[1].points.empty());
+  EXPECT_GT(ref.sections[1].points->size(), 0u);
   const auto five = [&] {
     Observers o;
     for (int i = 0; i < 5; ++i)
@@ -305,7 +305,7 @@ TEST(Observers, SectionPointsAreTheCrossingsOfEachOrbitsOwnIterates) {
         before = after;
       }
     }
-    const auto& got = o.sections[0].points;
+    const auto got = o.sections[0].points->all();
     ASSERT_EQ(got.size(), expected.size());
     for (std::size_t k = 0; k < got.size(); ++k) {
       EXPECT_EQ(got[k].orbit, expected[k].orbit);
@@ -324,8 +324,8 @@ TEST(Observers, IteratePointsLieOnTheirOrbitsLevelSetWithinTolerance) {
   Observers o = observers(points.size(), 1000);
   Ensemble e = model->start(points, Start::taylor, 1e8);
   model->advance(e, plan_of(3000, 1), Execution{best_isa(), 1, 4}, &o);
-  ASSERT_GT(o.sections[0].points.size(), 200u);
-  for (const auto& p : o.sections[0].points) {
+  ASSERT_GT(o.sections[0].points->size(), 200u);
+  for (const auto& p : o.sections[0].points->all()) {
     auto s = Suris::from_phase_space(c, points[static_cast<std::size_t>(p.orbit)], Start::taylor);
     double I0[3], I[3];
     Suris::invariants(c, s, I0);
@@ -369,51 +369,57 @@ TEST(Observers, CapsBoundTheStoredPointsWhileTheDensityCountsEveryCrossing) {
   Ensemble e = model->start(points, Start::taylor, 1e8);
   model->advance(e, plan_of(2000, 50), Execution{best_isa(), 2, 4}, &o);
   const auto& s = o.sections[0];
-  EXPECT_LE(s.points.size(), 2 * points.size());
+  EXPECT_LE(s.points->size(), 2 * points.size());
   std::vector<int> per_orbit(points.size(), 0);
-  for (const auto& p : s.points) ++per_orbit[static_cast<std::size_t>(p.orbit)];
+  for (const auto& p : s.points->all()) ++per_orbit[static_cast<std::size_t>(p.orbit)];
   for (int n : per_orbit) EXPECT_LE(n, 2);
   EXPECT_GT(s.density.samples(), static_cast<std::int64_t>(10 * points.size()));
   EXPECT_EQ(total(s.density), s.density.samples());
 }
 
-// Partials merged in any order, each an ordered run or several, come out in (orbit, step) order:
-// the points a merge takes are ordered runs, and finish() merges them without a sort.
-TEST(Observers, PartialsMergedInAnyOrderFinishInOrbitStepOrder) {
-  const auto section_with = [](std::vector<SectionPoint> points) {
-    Observers o = observers(64, 100);
-    o.sections[0].points.assign(points.begin(), points.end());
-    return o;
-  };
-  Observers all = observers(64, 100);
-  std::vector<Observers> partials;
-  partials.push_back(section_with({{40, 3, 0, 0}, {40, 9, 0, 0}, {41, 1, 0, 0}}));
-  partials.push_back(section_with({}));
-  partials.push_back(section_with({{2, 5, 0, 0}, {7, 2, 0, 0}, {7, 8, 0, 0}}));
-  all.merge(std::move(partials));
-  all.merge(section_with({{7, 4, 0, 0}, {50, 1, 0, 0}}));  // a later segment's
-  all.merge(section_with({{0, 6, 0, 0}}));
-  all.finish();
-  std::vector<std::pair<std::int64_t, std::int64_t>> got;
-  for (const auto& p : all.sections[0].points) got.emplace_back(p.orbit, p.step);
-  const std::vector<std::pair<std::int64_t, std::int64_t>> expected = {
-      {0, 6}, {2, 5}, {7, 2}, {7, 4}, {7, 8}, {40, 3}, {40, 9}, {41, 1}, {50, 1}};
+// Points kept in any order of orbits (as threads and chunks keep them) read back in (orbit, step)
+// order, at most per_orbit() each, whole or in parts from any point.
+TEST(Observers, SectionPointsReadInOrbitStepOrderWithinEachOrbitsSlots) {
+  SectionPoints p(64, 3);
+  p.keep(40, 3, 1, 0);
+  p.keep(7, 2, 2, 0);
+  p.keep(40, 9, 3, 0);
+  p.keep(0, 6, 4, 0);
+  p.keep(7, 4, 5, 0);
+  p.keep(7, 8, 6, 0);
+  p.keep(7, 9, 7, 0);  // beyond its 3 slots: not kept
+  p.keep(63, 1, 8, 0);
+  const std::vector<std::tuple<std::int64_t, std::int64_t, double>> expected = {
+      {0, 6, 4}, {7, 2, 2}, {7, 4, 5}, {7, 8, 6}, {40, 3, 1}, {40, 9, 3}, {63, 1, 8}};
+  std::vector<std::tuple<std::int64_t, std::int64_t, double>> got;
+  for (const auto& q : p.all()) got.emplace_back(q.orbit, q.step, q.x);
   EXPECT_EQ(got, expected);
-  EXPECT_TRUE(all.sections[0].runs.empty());
+  EXPECT_EQ(p.size(), expected.size());
+  EXPECT_EQ(p.kept()[7], 3);
+  for (std::size_t first = 0; first < expected.size(); ++first)  // parts of 2 from any point
+    for (std::size_t n = 1; n <= 2 && first + n <= expected.size(); ++n) {
+      std::vector<SectionPoint> part(n);
+      SectionPoints::Cursor cursor;
+      if (first > 0) p.read(first - 1, std::span(part).first(1), cursor);  // a cursor behind
+      p.read(first, part, cursor);
+      for (std::size_t i = 0; i < n; ++i)
+        EXPECT_EQ(std::get<1>(expected[first + i]), part[i].step) << first << " + " << i;
+    }
+  std::vector<SectionPoint> past(1);
+  SectionPoints::Cursor cursor;
+  EXPECT_THROW(p.read(expected.size(), past, cursor), std::out_of_range);
+  p.clear();
+  EXPECT_EQ(p.size(), 0u);
+  EXPECT_EQ(p.bytes(), 64u * (8 + 3 * 24));
 }
 
-// A block's points, recorded step by step across its orbits, are put in (orbit, step) order,
-// each orbit's points keeping their step order; the points before `from` stay where they are.
-TEST(Observers, OrderByOrbitIsStableAndLeavesEarlierPointsAlone) {
-  Section s;
-  s.points = {{1, 9, 0, 0}, {13, 1, 0, 0}, {10, 1, 1, 0}, {12, 2, 0, 0}, {10, 2, 2, 0},
-              {12, 3, 0, 0}, {10, 2, 3, 0}};
-  s.order_by_orbit(1);
-  std::vector<std::tuple<std::int64_t, std::int64_t, double>> got;
-  for (const auto& p : s.points) got.emplace_back(p.orbit, p.step, p.x);
-  const std::vector<std::tuple<std::int64_t, std::int64_t, double>> expected = {
-      {1, 9, 0}, {10, 1, 1}, {10, 2, 2}, {10, 2, 3}, {12, 2, 0}, {12, 3, 0}, {13, 1, 0}};
-  EXPECT_EQ(got, expected);
+// An orbit's slots: no more than the cap, nor than the crossings its steps allow.
+TEST(Observers, SlotsPerOrbitAreBoundedByTheCapAndTheSteps) {
+  EXPECT_EQ(Section::slots_per_orbit(100, 0, 1000), 100);
+  EXPECT_EQ(Section::slots_per_orbit(100, 0, 30), 30);   // one crossing a step, both ways
+  EXPECT_EQ(Section::slots_per_orbit(100, 1, 31), 16);   // one in two steps, one way
+  EXPECT_EQ(Section::slots_per_orbit(100, -1, 30), 15);
+  EXPECT_EQ(Section::slots_per_orbit(0, 1, 30), 0);
 }
 
 }  // namespace

@@ -12,11 +12,15 @@ bool Observers::sections_need_momentum() const {
   return std::ranges::any_of(sections, [](const Section& s) { return s.needs_momentum(); });
 }
 
-std::size_t Observers::cells() const {
-  std::size_t n = 0;
-  for (const auto& d : densities) n += d.histogram.counts().size();
-  for (const auto& s : sections) n += s.density.counts().size();
-  return n;
+double Observers::bytes(int threads) const {
+  std::size_t cells = 0, points = 0;
+  for (const auto& d : densities) cells += d.histogram.counts().size();
+  for (const auto& s : sections) {
+    cells += s.density.counts().size();
+    points += s.points->bytes();
+  }
+  // A cell is a count and a pending 16-bit tally, in each thread's partial and the total.
+  return 10.0 * static_cast<double>(cells) * (threads + 1) + static_cast<double>(points);
 }
 
 Observers Observers::empty_copy() const {
@@ -37,12 +41,9 @@ void Observers::merge(std::vector<Observers>&& partials) {
   std::erase_if(partials, [&](const Observers& p) {
     return p.densities.size() != densities.size() || p.sections.size() != sections.size();
   });
-  for (auto& partial : partials)
+  for (auto& partial : partials) {
     for (std::size_t i = 0; i < densities.size(); ++i) densities[i].merge(partial.densities[i]);
-  for (std::size_t i = 0; i < sections.size(); ++i) {
-    std::vector<Section*> theirs;
-    for (auto& partial : partials) theirs.push_back(&partial.sections[i]);
-    sections[i].merge(theirs);
+    for (std::size_t i = 0; i < sections.size(); ++i) sections[i].merge(partial.sections[i]);
   }
 }
 

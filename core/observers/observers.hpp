@@ -19,9 +19,11 @@ struct Observers {
   bool empty() const { return densities.empty() && sections.empty(); }
   bool densities_need_momentum() const;  // any axis over p1 or p2 (a reversed step per sample)
   bool sections_need_momentum() const;
-  std::size_t cells() const;  // of every histogram (the densities' and the sections')
+  // The memory they hold in a run of `threads` threads: every histogram's cells, in each
+  // thread's partial and the total, and the sections' point slots.
+  double bytes(int threads) const;
   Observers empty_copy() const;
-  void merge(Observers&& partial);  // takes the partial's points, in (orbit, step) order
+  void merge(Observers&& partial);  // adds the partial's counts (the points are shared)
   void merge(std::vector<Observers>&& partials);  // the same, one after the other
   void finish();
 };

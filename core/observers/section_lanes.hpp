@@ -50,7 +50,7 @@ void record_lanes(Section& section, ops::mask_t<V> crossing, const std::array<V,
   const auto lanes = ops::lanes_of(crossing);
   const auto x = ops::lanes_of(xy[0]), y = ops::lanes_of(xy[1]);
   for (std::size_t l = 0; l < lanes.size(); ++l)
-    if (lanes[l]) section.keep(static_cast<std::int64_t>(first_orbit + l), step, x[l], y[l]);
+    if (lanes[l]) section.points->keep(first_orbit + l, step, x[l], y[l]);
 }
 
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`

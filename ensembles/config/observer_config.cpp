@@ -5,6 +5,7 @@
 #include <set>
 
 #include "core/error.hpp"
+#include "core/memory_limit.hpp"
 
 namespace qmaps {
 namespace {
@@ -86,8 +87,10 @@ std::string unique_name(const Config& config, const std::string& section,
 
 }  // namespace
 
-Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits) {
+Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits,
+                                long long steps) {
   Observers o;
+  double slot_bytes = 0;
   std::set<std::string> names;
   std::int64_t cells = 0;
   for (std::size_t i = 0; i < config.entries("histogram"); ++i) {
@@ -124,7 +127,16 @@ Observers observers_from_config(const Config& config, const Model& model, std::s
     const auto bins = bins_of(config, s, 2, 64, cells);
     section.density = Histogram(section.name, {axis(config, s, std::string(coordinate_name(section.x)), "x_range", bins[0]),
                                                axis(config, s, std::string(coordinate_name(section.y)), "y_range", bins[1])});
-    section.kept = std::make_shared<std::vector<std::int64_t>>(orbits, 0);
+    // The slots are reserved now: they must fit the memory limit with those before them.
+    const std::int64_t slots = Section::slots_per_orbit(section.cap, section.direction, steps);
+    slot_bytes += static_cast<double>(orbits) * static_cast<double>(8 + 24 * slots);
+    if (const MemoryLimit have = memory_limit(); slot_bytes > have.bytes)
+      throw usage_error(config.where(s, "cap") + ": " + std::to_string(orbits) + " orbits x " +
+                        std::to_string(slots) + " points (cap " + std::to_string(section.cap) +
+                        ") need about " + number_text(slot_bytes / (1 << 30)) +
+                        " GiB with the sections before; " + have.what + " is " +
+                        number_text(have.bytes / (1 << 30)) + " GiB");
+    section.points = std::make_shared<SectionPoints>(orbits, slots);
     o.sections.push_back(std::move(section));
   }
   return o;

@@ -16,7 +16,9 @@ struct InvariantImage {
   Histogram histogram;  // axes' coordinates are the invariants' names
 };
 
-Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits);
+// `steps`: the run's, which bound the points a section's orbit can keep.
+Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits,
+                                long long steps);
 std::optional<InvariantImage> invariant_image_from_config(const Config& config, const Model& model);
 
 }  // namespace qmaps

@@ -1,5 +1,6 @@
 #include "ensembles/io/checkpoint.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.hpp"
@@ -50,7 +51,7 @@ void write_checkpoint(const std::string& path, RunRecord record, const h5::Group
   if (initial) copy_phase(*initial, root.create_group("initial"), record.ensemble.orbits);
   if (record.observers)
     for (const auto& s : record.observers->sections)
-      root.open_group("sections").open_group(s.name).write("kept", *s.kept);
+      root.open_group("sections").open_group(s.name).write("kept", s.points->kept());
   file.close();
   out.commit();
 }
@@ -124,23 +125,30 @@ void restore_observers(const h5::Group& root, Observers& o) {
   for (auto& s : o.sections) {
     const auto g = sections.open_group(s.name);
     restore_histogram(g, "density", s.density);
-    // The points kept per orbit, each within the cap, say how many points there are.
-    read_column(g, "kept", std::span<std::int64_t>(*s.kept));
+    // The points kept per orbit, each within the orbit's slots, say how many points there are.
+    SectionPoints& kept = *s.points;
+    const auto counts = g.read_int64("kept", kept.kept().size());
     std::size_t points = 0;
-    for (const std::int64_t k : *s.kept) {
-      if (k < 0 || k > s.cap) throw bad(g, "an orbit keeps " + std::to_string(k) + " points");
+    for (const std::int64_t k : counts) {
+      if (k < 0 || k > kept.per_orbit())
+        throw bad(g, "an orbit keeps " + std::to_string(k) + " points, not 0 to " +
+                         std::to_string(kept.per_orbit()));
       points += static_cast<std::size_t>(k);
     }
     const auto orbit = g.read_int64("orbit", points), step = g.read_int64("step", points);
     const auto x = g.read_doubles("x", points), y = g.read_doubles("y", points);
-    s.points.clear();
-    s.runs.clear();
+    // Each orbit's points in step order, orbit after orbit, as many as it keeps.
+    kept.clear();
     for (std::size_t i = 0; i < points; ++i) {
-      if (orbit[i] < 0 || static_cast<std::size_t>(orbit[i]) >= s.kept->size() || step[i] < 1 ||
-          !std::isfinite(x[i]) || !std::isfinite(y[i]))
+      const bool ordered = i == 0 || orbit[i] > orbit[i - 1] ||
+                           (orbit[i] == orbit[i - 1] && step[i] > step[i - 1]);
+      if (!ordered || orbit[i] < 0 || static_cast<std::size_t>(orbit[i]) >= counts.size() ||
+          step[i] < 1 || !std::isfinite(x[i]) || !std::isfinite(y[i]))
         throw bad(g, "point " + std::to_string(i) + " is not one a run records");
-      s.points.push_back({orbit[i], step[i], x[i], y[i]});
+      kept.keep(static_cast<std::size_t>(orbit[i]), step[i], x[i], y[i]);
     }
+    if (!std::ranges::equal(counts, kept.kept()))
+      throw bad(g, "its points are not spread over the orbits as kept says");
   }
 }
 

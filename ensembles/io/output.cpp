@@ -59,20 +59,25 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
   const auto sections = root.create_group("sections");
   for (const auto& s : o.sections) {
     const auto g = sections.create_group(s.name);
-    // The points' columns in parts: no second copy of the points.
-    const auto& points = s.points;
-    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, points.size(),
+    // The points' columns in parts, read from the slots in (orbit, step) order: no second copy.
+    const SectionPoints& points = *s.points;
+    const std::size_t n = points.size();
+    std::vector<SectionPoint> part(std::min(n, orbits_per_part));
+    SectionPoints::Cursor cursor;
+    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, n,
                                 [&](std::size_t first, std::size_t count, auto& values) {
+                                  points.read(first, std::span(part).first(count), cursor);
                                   for (std::size_t i = 0; i < count; ++i) {
-                                    values[0][i] = points[first + i].orbit;
-                                    values[1][i] = points[first + i].step;
+                                    values[0][i] = part[i].orbit;
+                                    values[1][i] = part[i].step;
                                   }
                                 });
-    write_columns({{g, "x"}, {g, "y"}}, points.size(),
+    write_columns({{g, "x"}, {g, "y"}}, n,
                   [&](std::size_t first, std::size_t count, auto& values) {
+                    points.read(first, std::span(part).first(count), cursor);
                     for (std::size_t i = 0; i < count; ++i) {
-                      values[0][i] = points[first + i].x;
-                      values[1][i] = points[first + i].y;
+                      values[0][i] = part[i].x;
+                      values[1][i] = part[i].y;
                     }
                   });
     write_histogram(g, s.density, "density");

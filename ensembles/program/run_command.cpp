@@ -40,33 +40,31 @@ std::unique_ptr<Model> map_of(const Config& config) {
 }
 
 // The memory a run holds per orbit: the state, the escape record (step, reason), the invariant
-// tracking (initial value, max drift), each section's kept count.
-double bytes_per_orbit(const Model& model, std::size_t sections) {
+// tracking (initial value, max drift); the observers count theirs (Observers::bytes).
+double bytes_per_orbit(const Model& model) {
   return static_cast<double>(8 * model.state_names().size() + 9 +
-                             16 * model.invariant_names().size() + 8 * sections);
+                             16 * model.invariant_names().size());
 }
 
 // Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits and
-// the histograms' cells (`cells`: 10 bytes each, counts and tallies, in every thread's partial
-// and the total).
-void check_memory(const Config& config, const Model& model, std::size_t orbits, std::size_t cells,
-                  int threads) {
+// its observers (Observers::bytes: the histograms in every thread, the sections' point slots).
+void check_memory(const Config& config, const Model& model, std::size_t orbits,
+                  double for_observers) {
   const double padded = static_cast<double>((orbits + Ensemble::padding - 1) /
                                             Ensemble::padding * Ensemble::padding);
-  const double for_orbits = padded * bytes_per_orbit(model, config.entries("section"));
-  const double for_cells = 10.0 * static_cast<double>(cells) * (threads + 1);
+  const double for_orbits = padded * bytes_per_orbit(model);
   const MemoryLimit have = memory_limit();
-  if (for_orbits + for_cells <= have.bytes) return;
+  if (for_orbits + for_observers <= have.bytes) return;
   // The key that sets the ensemble's size: a grid's points, else its orbits.
   const char* key = config.has("ensemble", "points") ? "points" : "orbits";
   char text[300];
   std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB", orbits,
                 for_orbits / (1 << 30));
   std::string message = config.where("ensemble", key) + text;
-  if (cells > 0) {
+  if (for_observers > 0) {
     std::snprintf(text, sizeof text,
-                  ", and the histograms' %zu cells in %d threads' partials and the total %.3g GiB",
-                  cells, threads, for_cells / (1 << 30));
+                  ", and their histograms (a copy per thread) and section points %.3g GiB",
+                  for_observers / (1 << 30));
     message += text;
   }
   std::snprintf(text, sizeof text, "; %s is %.3g GiB", have.what.c_str(), have.bytes / (1 << 30));
@@ -102,7 +100,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   Run r;
   r.model = std::move(model);
   r.orbits = orbits;
-  check_memory(config, *r.model, orbits, 0, 1);  // before the observers' per-orbit counts
+  check_memory(config, *r.model, orbits, 0);  // before the observers are made
   try {
     r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
   } catch (const Error& e) {
@@ -127,8 +125,8 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
-  r.observers = observers_from_config(config, *r.model, orbits);
-  check_memory(config, *r.model, orbits, r.observers.cells(), r.x.threads);
+  r.observers = observers_from_config(config, *r.model, orbits, r.plan.total);
+  check_memory(config, *r.model, orbits, r.observers.bytes(r.x.threads));
   r.image = invariant_image_from_config(config, *r.model);
 
   r.path = config.string("output", "file");
