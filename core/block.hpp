@@ -87,13 +87,14 @@ struct Lanes {
 
 // The planes of the sections a chunk watches in registers: each section's plane coordinate is
 // evaluated after every step, and a crossing by an alive lane is kept (the chain, the step, the
-// states on both sides) to be recorded once the chunk proves clean. At most `max_watched`
-// sections are watched so; more are checked step by step.
+// state after it, and the state before it only where a section interpolates) to be recorded
+// once the chunk proves clean. At most `max_watched` sections are watched so; more are checked
+// step by step.
 inline constexpr std::size_t max_watched = 4;
 
 template <class Map, class V>
 struct Crossing {
-  typename Map::template State<V> before, after;
+  typename Map::template State<V> before, after;  // before: only for a linear section
   ops::mask_t<V> lanes;
   long long step;
   int chain;
@@ -104,7 +105,9 @@ template <class Map, class V>
 struct Watch {
   std::size_t count = 0;  // 0: no section is watched
   const Section* sections[max_watched];
-  std::vector<Crossing<Map, V>>* crossings = nullptr;
+  bool linear = false;    // a section interpolates: crossings keep the state before them
+  // Room for every crossing a chunk can have (its steps × K chains × count): filled from 0.
+  Crossing<Map, V>* crossings = nullptr;
 
   // The section's plane coordinate at the state's node: the same value node_values gives.
   static V plane(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
@@ -124,14 +127,16 @@ struct Watch {
 // exceeds the bound or is not finite if any term does; idle lanes add 0), and one sum of the fault
 // codes, serve all the chains. The chains are stepped in a local copy whose address never
 // escapes, so that the compiler can keep it in registers. The watched sections' crossings by the
-// `alive` lanes go to watch.crossings, in step order.
-template <class Map, class V, int K>
+// `alive` lanes go to watch.crossings, in step order; `crossed` tells how many.
+template <class Map, class V, int K, bool keep_before>
 [[gnu::always_inline]] inline bool step_chunk(const typename Map::Coeffs& c,
                                                 typename Map::template State<V> (&s)[K],
                                                 long long first, long long steps, V bound2,
                                                 const Watch<Map, V>& watch,
-                                                const ops::mask_t<V> (&alive)[K]) {
+                                                const ops::mask_t<V> (&alive)[K],
+                                                std::size_t& crossed) {
   typename Map::template State<V> w[K];
+  std::size_t n = 0;  // crossings so far
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
   const auto advance = [&](int k) {  // one step of chain k, its escape measure summed before it
@@ -163,15 +168,23 @@ template <class Map, class V, int K>
     for (long long j = 0; j < steps; ++j)
 #pragma GCC unroll 8
       for (int k = 0; k < K; ++k) {
-        const auto before = w[k];
+        typename Map::template State<V> before;
+        if constexpr (keep_before) before = w[k];
         advance(k);
         const V now = Watch<Map, V>::plane(c, w[k], plane);
         const auto up = (previous[k] < value) & (now >= value);
         const auto down = (previous[k] > value) & (now <= value);
         const ops::mask_t<V> crossing =
             (direction > 0 ? up : direction < 0 ? down : up | down) & live[k];
-        if (ops::any(crossing)) [[unlikely]]
-          watch.crossings->push_back({before, w[k], crossing, first + j + 1, k, 0});
+        if (ops::any(crossing)) [[unlikely]] {
+          auto& x = watch.crossings[n++];
+          if constexpr (keep_before) x.before = before;
+          x.after = w[k];
+          x.lanes = crossing;
+          x.step = first + j + 1;
+          x.chain = k;
+          x.section = 0;
+        }
         previous[k] = now;
       }
   } else {
@@ -182,14 +195,21 @@ template <class Map, class V, int K>
     for (long long j = 0; j < steps; ++j)
 #pragma GCC unroll 8  // the chains in registers, as in the unwatched loop
       for (int k = 0; k < K; ++k) {
-        const auto before = w[k];
+        typename Map::template State<V> before;
+        if constexpr (keep_before) before = w[k];
         advance(k);
         for (std::size_t i = 0; i < watch.count; ++i) {
           const V now = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
           const ops::mask_t<V> crossing = crosses(*watch.sections[i], previous[k][i], now) & alive[k];
-          if (ops::any(crossing)) [[unlikely]]
-            watch.crossings->push_back(
-                {before, w[k], crossing, first + j + 1, k, static_cast<int>(i)});
+          if (ops::any(crossing)) [[unlikely]] {
+            auto& x = watch.crossings[n++];
+            if constexpr (keep_before) x.before = before;
+            x.after = w[k];
+            x.lanes = crossing;
+            x.step = first + j + 1;
+            x.chain = k;
+            x.section = static_cast<int>(i);
+          }
           previous[k][i] = now;
         }
       }
@@ -198,19 +218,40 @@ template <class Map, class V, int K>
     s[k] = w[k];
     acc = acc + Map::escape_measure(w[k]);
   }
+  crossed = n;
   return ops::any(ops::negate(acc <= bound2) | (faults != V(0.0)));
 }
 
 // The same, out of line, for blocks of 8 chains: their states alone fill the 32 registers, and a
 // loop allocated apart from advance_block's many live values spills less (measured: 5.1e9 against
 // 4.4e9 particle-steps/s for Suris on AVX-512). Blocks of up to 4 chains fit in registers inline.
-template <class Map, class V, int K>
+template <class Map, class V, int K, bool keep_before>
 [[gnu::noinline, gnu::flatten]] bool step_chunk_apart(const typename Map::Coeffs& c,
                                                       typename Map::template State<V> (&s)[K],
                                                       long long first, long long steps, V bound2,
                                                       const Watch<Map, V>& watch,
-                                                      const ops::mask_t<V> (&alive)[K]) {
-  return step_chunk<Map, V, K>(c, s, first, steps, bound2, watch, alive);
+                                                      const ops::mask_t<V> (&alive)[K],
+                                                      std::size_t& crossed) {
+  return step_chunk<Map, V, K, keep_before>(c, s, first, steps, bound2, watch, alive, crossed);
+}
+
+// The chunk, with the states before crossings kept only where a watched section needs them.
+template <class Map, class V, int K>
+[[gnu::always_inline]] inline bool step_any_chunk(const typename Map::Coeffs& c,
+                                                  typename Map::template State<V> (&s)[K],
+                                                  long long first, long long steps, V bound2,
+                                                  const Watch<Map, V>& watch,
+                                                  const ops::mask_t<V> (&alive)[K],
+                                                  std::size_t& crossed) {
+  if constexpr (K == 8) {
+    if (watch.linear)
+      return step_chunk_apart<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
+    return step_chunk_apart<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
+  } else {
+    if (watch.linear)
+      return step_chunk<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
+    return step_chunk<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
+  }
 }
 
 }  // namespace detail
@@ -263,11 +304,19 @@ template <class Map, class V, int K>
   }
   // Up to max_watched sections are watched inside the chunks; more are checked step by step.
   // One buffer per thread, kept across blocks: its capacity grows once, not per block.
-  thread_local std::vector<detail::Crossing<Map, V>> crossings;  // cleared before each chunk
+  // Each chunk's crossings; sized for the most a chunk can have, grown only on a thread's first
+  // blocks.
+  thread_local std::vector<detail::Crossing<Map, V>> crossings;
+  std::size_t crossed = 0;  // in the last chunk
   detail::Watch<Map, V> watch;
   if (sections && observers->sections.size() <= detail::max_watched) {
-    for (const auto& section : observers->sections) watch.sections[watch.count++] = &section;
-    watch.crossings = &crossings;
+    for (const auto& section : observers->sections) {
+      watch.sections[watch.count++] = &section;
+      watch.linear = watch.linear || section.linear;
+    }
+    const std::size_t room = static_cast<std::size_t>(detail::max_chunk) * K * watch.count;
+    if (crossings.size() < room) crossings.resize(room);
+    watch.crossings = crossings.data();
   }
   const bool sampling = plan.track_invariants || densities;
   // The next multiple of the stride (plan.samples_at without a division per chunk).
@@ -305,10 +354,14 @@ template <class Map, class V, int K>
   };
   // The crossings a clean chunk kept, recorded as check_sections records them.
   const auto record_crossings = [&] {
-    for (const auto& x : crossings)
-      record_lanes(observers->sections[static_cast<std::size_t>(x.section)], x.lanes,
-                   node_values<Map>(c, x.before, section_momentum),
-                   node_values<Map>(c, x.after, section_momentum), first + x.chain * W, x.step);
+    for (std::size_t i = 0; i < crossed; ++i) {
+      const auto& x = crossings[i];
+      Section& section = observers->sections[static_cast<std::size_t>(x.section)];
+      const auto after = node_values<Map>(c, x.after, section_momentum);
+      record_lanes(section, x.lanes,
+                   section.linear ? node_values<Map>(c, x.before, section_momentum) : after, after,
+                   first + x.chain * W, x.step);
+    }
   };
 
   for (long long n = plan.first; n < plan.last;) {
@@ -334,12 +387,8 @@ template <class Map, class V, int K>
 
     State start[K];
     for (int k = 0; k < K; ++k) start[k] = s[k];
-    crossings.clear();
-    bool suspect;
-    if constexpr (K == 8)
-      suspect = detail::step_chunk_apart<Map, V, K>(c, s, n, next - n, bound2, watch, alive);
-    else
-      suspect = detail::step_chunk<Map, V, K>(c, s, n, next - n, bound2, watch, alive);
+    const bool suspect =
+        detail::step_any_chunk<Map, V, K>(c, s, n, next - n, bound2, watch, alive, crossed);
     if (suspect) {  // replay the chunk step by step, its crossings checked as they come
       for (int k = 0; k < K; ++k) s[k] = start[k];
       for (long long j = n + 1; j <= next; ++j)
