@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dual.hpp"
 #include "core/escape.hpp"
 #include "core/error.hpp"
 #include "core/ops.hpp"
@@ -88,9 +89,13 @@ struct Case3 {
   template <class V>
   static V step(const Coeffs& c, State<V>& s) {
     const V minus_2c_lambda = V(-2.0 * c.c) * s[6];
+    const Quartic<V> p1(c, s[2], s[0], minus_2c_lambda), p2(c, s[3], s[1], minus_2c_lambda);
     V w1, w2;
-    const V fault = solve(Quartic<V>(c, s[2], s[0], minus_2c_lambda),
-                          Quartic<V>(c, s[3], s[1], minus_2c_lambda), w1, w2);
+    const V fault = solve(p1, p2, w1, w2);
+    if constexpr (is_dual<V>) {  // the tangent map (core/dual.hpp)
+      w1 = root_derivative(p1, w1);
+      w2 = root_derivative(p2, w2);
+    }
     const V r_next = radius2(s[2], s[3]), r_new = radius2(w1, w2);
     const V dt = c.trapezoid ? V(c.half_ds) * (r_next + r_new) : V(c.ds) * r_next;
     s = {s[2], s[3], w1, w2, s[5], s[5] + dt, s[6]};
@@ -222,6 +227,17 @@ struct Case3 {
   };
 
   // |Δw| ≤ 2⁻²⁰(1 + |w|) for the new iterate w
+  // The derivative of the root w of P(w; u, v, λ) = 0 by the implicit-function rule,
+  // dw = −(∂P/∂(u, v, λ))·d(u, v, λ)/P′(w): one more correction in Dual arithmetic at the root,
+  // where P = 0, has exactly that derivative. Its value moves by round-off and is not kept, so
+  // the tangent step's values stay the plain step's bits.
+  template <class V>
+  static V root_derivative(const Quartic<V>& p, const V& w) {
+    V settled_root = w - p.halley(w).delta;
+    settled_root.v = w.v;
+    return settled_root;
+  }
+
   template <class V>
   static ops::mask_t<V> settled(V delta, V w) {
     const V tol(0x1p-20);
