@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/chaos.hpp"
 #include "core/error.hpp"
 #include "core/map_concept.hpp"
 #include "core/model.hpp"
@@ -78,6 +79,20 @@ class ModelOf final : public Model {
       const auto s = Map::reversed(c_, state_of(e, i));
       for (std::size_t k = 0; k < s.size(); ++k) e.state[k][i] = s[k];
     }
+  }
+
+  double advance_with_tangent(std::span<double> state, std::span<double> deviation,
+                              ChaosSums<double>& sums, long long steps) const override {
+    typename Map::template State<double> s, w;
+    if (state.size() != s.size() || deviation.size() != w.size())
+      throw usage_error("a state or deviation of the wrong size");
+    std::copy(state.begin(), state.end(), s.begin());
+    std::copy(deviation.begin(), deviation.end(), w.begin());
+    double fault = 0;
+    for (long long n = 0; n < steps && fault == 0; ++n) fault = chaos_step<Map>(c_, s, w, sums);
+    std::copy(s.begin(), s.end(), state.begin());
+    std::copy(w.begin(), w.end(), deviation.begin());
+    return fault;
   }
 
  private:

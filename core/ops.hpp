@@ -9,6 +9,8 @@
 //   neg(a)          −a exactly, signed zeros included. Never write unary minus on a batch:
 //                   xsimd 8's AVX-512 negation is 0 − a, which maps +0 to +0.
 //   sqrt, abs, floor  correctly rounded / exact on every path
+//   log             the C library's log, lane by lane on a batch: one function on every path, so
+//                   the same bits (it is not correctly rounded, and not fast: for indicators)
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
 //   integer_lanes     the lanes of a value holding exact integers in [0, 2^52), as integers
@@ -60,6 +62,8 @@ template <std::floating_point T>
 inline T abs(T a) { return std::fabs(a); }
 template <std::floating_point T>
 inline T floor(T a) { return std::floor(a); }
+template <std::floating_point T>
+inline T log(T a) { return std::log(a); }
 template <std::floating_point T>
 inline T select(bool m, T a, T b) { return m ? a : b; }
 inline bool any(bool m) { return m; }
@@ -122,6 +126,13 @@ inline batch<A> floor(batch<A> a) {
     return _mm512_maskz_roundscale_pd(0xFF, a, _MM_FROUND_TO_NEG_INF);
   else
     return xsimd::floor(a);
+}
+template <class A>
+inline batch<A> log(batch<A> a) {
+  alignas(64) std::array<double, batch<A>::size> x;
+  a.store_aligned(x.data());
+  for (double& v : x) v = std::log(v);
+  return batch<A>::load_aligned(x.data());
 }
 template <class A>
 inline batch<A> select(xsimd::batch_bool<double, A> m, batch<A> a, batch<A> b) {

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <sstream>
@@ -357,6 +358,28 @@ TEST_F(Cli, OrbitPrintsEveryKthRowWithRoundTripDigitsEqual) {
   EXPECT_EQ(rows[1][1], "0.10000000000000001");
   EXPECT_EQ(std::strtod(rows[1][1].c_str(), nullptr), 0.1);
   EXPECT_EQ(std::strtod(rows[1][2].c_str(), nullptr), 0.2);
+}
+
+// --chaos adds λ, FLI and ⟨Y⟩; the other columns are the same bits as without it.
+TEST_F(Cli, OrbitChaosColumnsFollowTheSameOrbit) {
+  auto args = orbit_args("0.1,0.2,0.3,0.4", "20000", "10000", "taylor");
+  const Result plain = run(args, dir);
+  args.push_back("--chaos");
+  const Result chaos = run(args, dir);
+  ASSERT_EQ(chaos.status, 0) << chaos.err;
+  const auto p = csv_rows(plain.out), c = csv_rows(chaos.out);
+  ASSERT_EQ(c.size(), 4u);
+  EXPECT_EQ(c[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I1", "I2",
+                                            "lyapunov", "fli", "megno"}));
+  EXPECT_EQ(c[1][8], "nan");  // λ and ⟨Y⟩ are not defined before a step
+  EXPECT_EQ(c[1][9], "0");
+  for (std::size_t k = 1; k < c.size(); ++k)
+    EXPECT_EQ(std::vector<std::string>(c[k].begin(), c[k].begin() + 8), p[k]);
+  const double lyapunov = std::strtod(c[3][8].c_str(), nullptr);
+  const double megno = std::strtod(c[3][10].c_str(), nullptr);
+  EXPECT_GT(lyapunov, 0);
+  EXPECT_LT(lyapunov, std::log(20000.0) / 20000);  // a regular orbit: λ_n ≤ ln(n)/n
+  EXPECT_NEAR(megno, 2.0, 0.2);  // 2 − O(ln(n)/n): 1.47 after 2000 steps, 1.87 after 20000
 }
 
 TEST_F(Cli, OrbitEulerStartDiffersFromTaylorAtStepOne) {

@@ -25,6 +25,7 @@ struct OrbitOptions {
   long long every = 1;
   std::string start = "taylor";
   double escape_bound = 1e8;
+  bool chaos = false;  // also the chaos indicators' columns (docs/chaos.md)
 };
 
 struct CheckOptions {

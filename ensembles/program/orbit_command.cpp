@@ -26,13 +26,16 @@ Phase parse_ic(const std::string& text) {
   return {x[0], x[1], x[2], x[3]};
 }
 
-// One CSV row: n, then t for a map whose physical time is per orbit, q, p, the invariants.
-void row(std::ostream& out, const Model& model, const Ensemble& e) {
+// One CSV row: n, then t for a map whose physical time is per orbit, q, p, the invariants, and
+// any further columns.
+void row(std::ostream& out, const Model& model, const Ensemble& e,
+         const std::vector<double>& more) {
   std::vector<double> values;
   if (model.time_per_orbit()) values.push_back(model.time(e, 0));
   const Phase x = model.phase(e, 0);
   values.insert(values.end(), {x.q1, x.q2, x.p1, x.p2});
   for (double v : model.invariants(e, 0)) values.push_back(v);
+  values.insert(values.end(), more.begin(), more.end());
   char buf[64];
   out << e.step;
   for (double v : values) {
@@ -55,7 +58,21 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   Ensemble e = model->start(std::span<const Phase>(&ic, 1), start, o.escape_bound);
   out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
   for (const auto& name : model->invariant_names()) out << ',' << name;
+  if (o.chaos) out << ",lyapunov,fli,megno";
   out << '\n';
+  // The chaos indicators follow the orbit's own state with the tangent map (the same values,
+  // bit for bit, as the rows' steps); at n = 0 they are not yet defined (NaN for λ and ⟨Y⟩).
+  std::vector<double> state(model->state_names().size()), deviation(state.size());
+  for (std::size_t k = 0; k < state.size(); ++k) {
+    state[k] = e.state[k][0];
+    deviation[k] = k < 4 ? 0.5 : 0.0;  // initial_deviation()
+  }
+  ChaosSums<double> sums;
+  const auto chaos_columns = [&] {
+    if (!o.chaos) return std::vector<double>{};
+    if (sums.steps == 0) return std::vector<double>{std::nan(""), 0.0, std::nan("")};
+    return std::vector<double>{sums.lyapunov(), sums.fli, sums.megno()};
+  };
   RunPlan plan;
   plan.total = o.steps;
   plan.escape_bound = o.escape_bound;
@@ -67,11 +84,12 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
           << "); rows stop before it\n";
       return 0;
     }
-    row(out, *model, e);
+    row(out, *model, e, chaos_columns());
     if (n >= o.steps) break;
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
     model->advance(e, plan, Execution{});
+    if (o.chaos) model->advance_with_tangent(state, deviation, sums, plan.last - n);
     n = plan.last;
   }
   return 0;
