@@ -60,6 +60,8 @@ class Model {
   // The phase point of one state (components in the order of state_names()).
   virtual Phase phase_of(std::span<const double> state) const = 0;
   virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;
+  // The invariants of one state (components in the order of state_names()).
+  virtual std::vector<double> invariants_of(std::span<const double> state) const = 0;
   // Physical time of the orbit's current node (the same for every orbit unless
   // time_per_orbit()).
   virtual double time(const Ensemble& e, std::size_t orbit) const = 0;

@@ -70,6 +70,14 @@ class ModelOf final : public Model {
     Map::invariants(c_, state_of(e, orbit), values);
     return {values, values + invariant_names_.size()};
   }
+  std::vector<double> invariants_of(std::span<const double> state) const override {
+    typename Map::template State<double> s;
+    if (state.size() != s.size()) throw usage_error("a state of the wrong size");
+    std::copy(state.begin(), state.end(), s.begin());
+    double values[Map::max_invariants];
+    Map::invariants(c_, s, values);
+    return {values, values + invariant_names_.size()};
+  }
   double time(const Ensemble& e, std::size_t orbit) const override {
     return Map::time(c_, e.step, state_of(e, orbit));
   }

@@ -31,7 +31,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (key != "name") params[key] = config.number("map", key);
     const auto model = make_model(config.string("map", "name"), params);
     const auto initial = InitialConditions::from_config(config, *model);
-    observers_from_config(config, *model, initial.orbits() < 4096 ? initial.orbits() : 4096);
+    // At most 4096 orbits and steps: the sections' slots stay small whatever the caps say.
+    const long long steps = config.integer_or("run", "steps", 0);
+    observers_from_config(config, *model, initial.orbits() < 4096 ? initial.orbits() : 4096,
+                          steps < 4096 ? steps : 4096);
     config.reject_unknown();
   } catch (const Error&) {
   }

@@ -344,11 +344,12 @@ TEST_F(Cli, OrbitPrintsEveryKthRowWithRoundTripDigitsEqual) {
   ASSERT_EQ(r.status, 0) << r.err;
   const auto rows = csv_rows(r.out);
   ASSERT_EQ(rows.size(), 4u);
-  EXPECT_EQ(rows[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I1", "I2"}));
+  EXPECT_EQ(rows[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I1", "I2",
+                                               "H_cont", "I_case1_cont"}));
   for (std::size_t k = 1; k < rows.size(); ++k) {
-    ASSERT_EQ(rows[k].size(), 8u);
+    ASSERT_EQ(rows[k].size(), 10u);
     EXPECT_EQ(rows[k][0], std::to_string(5 * (k - 1)));
-    for (std::size_t j = 1; j < 8; ++j) {  // each number printed with %.17g: it round-trips
+    for (std::size_t j = 1; j < 10; ++j) {  // each number printed with %.17g: it round-trips
       const double v = std::strtod(rows[k][j].c_str(), nullptr);
       char again[64];
       std::snprintf(again, sizeof again, "%.17g", v);
@@ -370,16 +371,66 @@ TEST_F(Cli, OrbitChaosColumnsFollowTheSameOrbit) {
   const auto p = csv_rows(plain.out), c = csv_rows(chaos.out);
   ASSERT_EQ(c.size(), 4u);
   EXPECT_EQ(c[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I1", "I2",
-                                            "lyapunov", "fli", "megno"}));
-  EXPECT_EQ(c[1][8], "nan");  // λ and ⟨Y⟩ are not defined before a step
-  EXPECT_EQ(c[1][9], "0");
+                                            "H_cont", "I_case1_cont", "lyapunov", "fli",
+                                            "megno"}));
+  EXPECT_EQ(c[1][10], "nan");  // λ and ⟨Y⟩ are not defined before a step
+  EXPECT_EQ(c[1][11], "0");
   for (std::size_t k = 1; k < c.size(); ++k)
-    EXPECT_EQ(std::vector<std::string>(c[k].begin(), c[k].begin() + 8), p[k]);
-  const double lyapunov = std::strtod(c[3][8].c_str(), nullptr);
-  const double megno = std::strtod(c[3][10].c_str(), nullptr);
+    EXPECT_EQ(std::vector<std::string>(c[k].begin(), c[k].begin() + 10), p[k]);
+  const double lyapunov = std::strtod(c[3][10].c_str(), nullptr);
+  const double megno = std::strtod(c[3][12].c_str(), nullptr);
   EXPECT_GT(lyapunov, 0);
   EXPECT_LT(lyapunov, std::log(20000.0) / 20000);  // a regular orbit: λ_n ≤ ln(n)/n
   EXPECT_NEAR(megno, 2.0, 0.2);  // 2 − O(ln(n)/n): 1.47 after 2000 steps, 1.87 after 20000
+}
+
+// H_cont and the case's second integral of the continuous system at the phase point: on a map
+// they oscillate at O(h²) while the map's own invariants hold to round-off; on the flow they are
+// its own invariants, the same bits.
+TEST_F(Cli, OrbitShowsTheContinuousIntegralsBesideTheMapsInvariants) {
+  const auto rows = csv_rows(run(orbit_args("0.1,0.2,0.3,0.4", "1000", "10", "taylor"), dir).out);
+  ASSERT_EQ(rows.size(), 102u);
+  double spread_map = 0, spread_cont = 0;
+  const double H0 = std::strtod(rows[1][5].c_str(), nullptr);
+  const double C0 = std::strtod(rows[1][8].c_str(), nullptr);
+  for (std::size_t k = 1; k < rows.size(); ++k) {
+    spread_map = std::max(spread_map, std::fabs(std::strtod(rows[k][5].c_str(), nullptr) - H0));
+    spread_cont = std::max(spread_cont, std::fabs(std::strtod(rows[k][8].c_str(), nullptr) - C0));
+  }
+  EXPECT_LT(spread_map, 1e-13);  // the map's H: round-off
+  EXPECT_GT(spread_cont, 1e-5);  // the continuous H along the map's orbit: O(h²) = O(1e-2)·H
+  EXPECT_LT(spread_cont, 1e-2);
+  const auto flow = csv_rows(run({"orbit", "--map", "flow", "--set", "A=0.7", "--set", "B=0.3",
+                                  "--set", "alpha=0.9", "--set", "beta=0.9", "--set", "delta=1.8",
+                                  "--set", "h=0.1", "--ic", "0.1,0.2,0.3,0.4", "--steps", "20",
+                                  "--every", "10"},
+                                 dir).out);
+  ASSERT_EQ(flow[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I_case1",
+                                               "H_cont", "I_case1_cont"}));
+  for (std::size_t k = 1; k < flow.size(); ++k) {
+    EXPECT_EQ(flow[k][5], flow[k][7]);
+    EXPECT_EQ(flow[k][6], flow[k][8]);
+  }
+}
+
+// --energy E: p2 solved from the continuous H, the sign of --ic's p2 kept. On the flow, whose
+// state is the phase point, H_cont at n = 0 is E to round-off; a map's n = 0 row shows its own
+// p (a central difference), O(h²) away.
+TEST_F(Cli, OrbitEnergyPlacesTheInitialConditionOnTheEnergySurface) {
+  for (const char* p2 : {"0.4", "-0.4"}) {
+    const Result r = run({"orbit", "--map", "flow", "--set", "A=0.7", "--set", "B=0.3", "--set",
+                          "alpha=0.9", "--set", "beta=0.9", "--set", "delta=1.8", "--set", "h=0.1",
+                          "--ic", std::string("0.1,0.2,0.3,") + p2, "--steps", "0", "--energy",
+                          "0.25"},
+                         dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto rows = csv_rows(r.out);
+    EXPECT_NEAR(std::strtod(rows[1][7].c_str(), nullptr), 0.25, 1e-15);  // H_cont = E
+    EXPECT_EQ(std::strtod(rows[1][4].c_str(), nullptr) < 0, p2[0] == '-');
+  }
+  auto low = orbit_args("0.1,0.2,0.3,0.4", "0", "1", "taylor");
+  low.insert(low.end(), {"--energy", "0.01"});
+  expect_rejected(run(low, dir), 2, {"--energy 0.01: below the energy", "no p2 reaches it"});
 }
 
 TEST_F(Cli, OrbitEulerStartDiffersFromTaylorAtStepOne) {

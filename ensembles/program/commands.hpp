@@ -1,6 +1,7 @@
 #pragma once
 // The qmaps subcommands, as functions of their parsed options (ensembles/program/main.cpp parses them).
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct OrbitOptions {
   std::string start = "taylor";
   double escape_bound = 1e8;
   bool chaos = false;  // also the chaos indicators' columns (docs/chaos.md)
+  std::optional<double> energy;  // p2 solved from H_cont(q1, q2, p1, p2) = E, its sign kept
 };
 
 struct CheckOptions {

@@ -42,6 +42,9 @@ int main(int argc, char** argv) {
   orbit_cmd->add_option("--steps", orbit.steps, "number of steps N")->required();
   orbit_cmd->add_option("--every", orbit.every, "print every K-th step")->capture_default_str();
   orbit_cmd->add_option("--start", orbit.start, "start rule: taylor or euler")->capture_default_str();
+  orbit_cmd->add_option("--energy", orbit.energy,
+                        "put the initial condition on H = E: p2 solved from the continuous H, "
+                        "with the sign --ic gives it");
   orbit_cmd->add_flag("--chaos", orbit.chaos,
                       "also columns lyapunov, fli, megno from the tangent map (docs/chaos.md)");
   orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")

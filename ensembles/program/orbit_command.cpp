@@ -49,15 +49,33 @@ void row(std::ostream& out, const Model& model, const Ensemble& e,
 
 int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   const auto model = make_model(o.map, parse_params(o.sets));
-  const Phase ic = parse_ic(o.ic);
+  Phase ic = parse_ic(o.ic);
+  if (o.energy) {  // p2 from H_cont = E, with the sign --ic gives it
+    const double rest = model->continuous().energy({ic.q1, ic.q2, ic.p1, 0.0});
+    const double p2_squared = 2 * (*o.energy - rest);
+    if (!std::isfinite(*o.energy) || !(p2_squared >= 0))
+      throw usage_error("--energy " + number_text(*o.energy) + ": below the energy " +
+                        number_text(rest) + " of (q1, q2, p1) = (" + number_text(ic.q1) + ", " +
+                        number_text(ic.q2) + ", " + number_text(ic.p1) +
+                        ") with p2 = 0; no p2 reaches it");
+    ic.p2 = std::copysign(std::sqrt(p2_squared), ic.p2);
+  }
   if (o.steps < 0) throw usage_error("--steps must be >= 0");
   if (o.every < 1) throw usage_error("--every must be >= 1");
   if (!(o.escape_bound > 0)) throw usage_error("--escape-bound must be > 0");
   const Start start = parse_start(o.start);
 
   Ensemble e = model->start(std::span<const Phase>(&ic, 1), start, o.escape_bound);
+  // The continuous system's H and its case's second integral at the phase point: the flow's
+  // invariants (kernels/flow.hpp) for the map's potential, so that the map's oscillating energy
+  // error shows beside its own exact invariants.
+  const Potential v = model->continuous();
+  const auto continuous =
+      make_model("flow", {{"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta},
+                          {"delta", v.delta}, {"h", 1.0}});
   out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
   for (const auto& name : model->invariant_names()) out << ',' << name;
+  for (const auto& name : continuous->invariant_names()) out << ',' << name << "_cont";
   if (o.chaos) out << ",lyapunov,fli,megno";
   out << '\n';
   // The chaos indicators follow the orbit's own state with the tangent map (the same values,
@@ -68,10 +86,16 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
     deviation[k] = k < 4 ? 0.5 : 0.0;  // initial_deviation()
   }
   ChaosSums<double> sums;
-  const auto chaos_columns = [&] {
-    if (!o.chaos) return std::vector<double>{};
-    if (sums.steps == 0) return std::vector<double>{std::nan(""), 0.0, std::nan("")};
-    return std::vector<double>{sums.lyapunov(), sums.fli, sums.megno()};
+  const auto more_columns = [&] {
+    const Phase x = model->phase(e, 0);
+    std::vector<double> values = continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
+    if (!o.chaos) return values;
+    if (sums.steps == 0) {
+      values.insert(values.end(), {std::nan(""), 0.0, std::nan("")});
+    } else {
+      values.insert(values.end(), {sums.lyapunov(), sums.fli, sums.megno()});
+    }
+    return values;
   };
   RunPlan plan;
   plan.total = o.steps;
@@ -84,7 +108,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
           << "); rows stop before it\n";
       return 0;
     }
-    row(out, *model, e, chaos_columns());
+    row(out, *model, e, more_columns());
     if (n >= o.steps) break;
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
