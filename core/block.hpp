@@ -303,9 +303,8 @@ template <class Map, class V, int K>
     if (sections) before[k] = node_values<Map>(c, s[k], section_momentum);
   }
   // Up to max_watched sections are watched inside the chunks; more are checked step by step.
-  // One buffer per thread, kept across blocks: its capacity grows once, not per block.
-  // Each chunk's crossings; sized for the most a chunk can have, grown only on a thread's first
-  // blocks.
+  // Each chunk's crossings go to one buffer per thread, kept across blocks and sized for the most
+  // a chunk can have: it grows only on a thread's first blocks.
   thread_local std::vector<detail::Crossing<Map, V>> crossings;
   std::size_t crossed = 0;  // in the last chunk
   detail::Watch<Map, V> watch;

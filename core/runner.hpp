@@ -2,9 +2,9 @@
 // The runner: advances an ensemble from plan.first to plan.last on the path that `x` names. The
 // scalar reference (core/block.hpp at width 1) takes one orbit at a time. A SIMD path
 // (core/dispatch.hpp) takes whole blocks of lanes × chains orbits, OpenMP-parallel with a static
-// schedule; each thread samples into its own empty copy of the observers, merged exactly in thread
-// order when all are done (integer counts; each thread's section points are already in (orbit,
-// step) order, and finish() merges the ordered runs).
+// schedule; each thread counts into its own empty copy of the observers' histograms, merged
+// exactly in thread order when all are done (integer counts), and writes its orbits' section
+// points straight into their slots (core/observers/section_points.hpp).
 #include <cstddef>
 #include <string>
 #include <utility>
