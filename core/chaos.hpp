@@ -31,30 +31,93 @@ std::array<V, S> initial_deviation() {
   return w;
 }
 
-// One step of the state s and its deviation w; the sums take the step's growth. Returns the
-// step's fault codes (0 for the explicit maps).
-template <class Map, class V>
-V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
-             typename Map::template State<V>& w, ChaosSums<V>& sums) {
-  auto x = with_deviations<1>(s, std::array<typename Map::template State<V>, 1>{w});
+// One step of the state s and N deviation vectors w (states of V) by the map's own step on
+// Dual<V, N>. Returns the step's fault codes (0 for the explicit maps).
+template <class Map, std::size_t N, class V>
+V tangent_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
+               std::array<typename Map::template State<V>, N>& w) {
+  auto x = with_deviations<N>(s, w);
   V fault(0.0);
   if constexpr (Map::reports_faults)
     fault = Map::step(c, x).v;
   else
     Map::step(c, x);
-  std::array<typename Map::template State<V>, 1> deviation;
-  split(x, s, deviation);
-  w = deviation[0];
-  V norm2 = w[0] * w[0];
-  for (std::size_t k = 1; k < 4; ++k) norm2 = ops::fma(w[k], w[k], norm2);
-  const V norm = ops::sqrt(norm2), growth = ops::log(norm);
+  split(x, s, w);
+  return fault;
+}
+
+// The dot product over the phase-space part (the state's first four components).
+template <class V, std::size_t S>
+V phase_dot(const std::array<V, S>& a, const std::array<V, S>& b) {
+  V sum = a[0] * b[0];
+  for (std::size_t k = 1; k < 4; ++k) sum = ops::fma(a[k], b[k], sum);
+  return sum;
+}
+
+// w /= |w| (over the phase-space part); returns |w|.
+template <class V, std::size_t S>
+V normalize(std::array<V, S>& w) {
+  const V norm = ops::sqrt(phase_dot(w, w));
   for (auto& component : w) component = component / norm;
+  return norm;
+}
+
+// Modified Gram–Schmidt over the phase-space part, in place and in order: w_i loses its
+// projection on each of w_0 … w_{i−1} in turn, then norms[i] = |w_i| and w_i is normalized.
+// The product of the norms is the volume the vectors span.
+template <class V, std::size_t S, std::size_t N>
+void gram_schmidt(std::array<std::array<V, S>, N>& w, std::array<V, N>& norms) {
+  for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      const V d = phase_dot(w[i], w[j]);
+      for (std::size_t k = 0; k < S; ++k) w[i][k] = ops::neg(ops::fms(d, w[j][k], w[i][k]));
+    }
+    norms[i] = normalize(w[i]);
+  }
+}
+
+// The sums' update for a step in which the deviation grew by δ = `norm`.
+template <class V>
+void add_growth(ChaosSums<V>& sums, V norm) {
+  const V growth = ops::log(norm);
   sums.steps = sums.steps + V(1.0);
   sums.log_growth = sums.log_growth + growth;
   sums.fli = ops::max(sums.fli, sums.log_growth);
   sums.weighted = ops::fma(sums.steps, growth, sums.weighted);
   sums.megno_sum = sums.megno_sum + V(2.0) * sums.weighted / sums.steps;
+}
+
+// One step of the state s and its deviation w; the sums take the step's growth. Returns the
+// step's fault codes (0 for the explicit maps).
+template <class Map, class V>
+V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
+             typename Map::template State<V>& w, ChaosSums<V>& sums) {
+  std::array<typename Map::template State<V>, 1> one = {w};
+  const V fault = tangent_step<Map, 1>(c, s, one);
+  w = one[0];
+  add_growth(sums, normalize(w));
   return fault;
+}
+
+// The spectrum and the GALIs need four deviation vectors each, the first four orthonormalized
+// every step (Benettin: Σ ln of the Gram–Schmidt norms / n → λ_1 ≥ … ≥ λ_4), the other four only
+// normalized (GALI_k: the volume their first k span, from Gram–Schmidt of copies).
+//
+//   λ_i,n   = (1/n) Σ_{k≤n} ln r_i,k     r_i,k: the i-th Gram–Schmidt norm after step k
+//   GALI_k  = |ŵ_1 ∧ … ∧ ŵ_k|            ŵ_i: the deviations, each of norm 1
+//
+// For a map of det J = 1, Σ_i ln r_i,k = 0 to round-off each step: the spectrum sums to 0 and
+// comes in pairs λ_1 = −λ_4, λ_2 = −λ_3 (symplectic). On a regular orbit of two degrees of
+// freedom GALI_2 stays near a positive value and GALI_4 falls as a power of n; on a chaotic one
+// both fall exponentially (GALI_2 as e^{−(λ_1 − λ_2)n}).
+template <class V, std::size_t S>
+V gali(const std::array<std::array<V, S>, 4>& w, std::size_t k) {
+  auto copy = w;
+  std::array<V, 4> norms;
+  gram_schmidt(copy, norms);
+  V volume = norms[0];
+  for (std::size_t i = 1; i < k; ++i) volume = volume * norms[i];
+  return volume;
 }
 
 }  // namespace qmaps

@@ -1,8 +1,11 @@
-// The chaos indicators of core/chaos.hpp (tangent map, λ_max, FLI, MEGNO) on every map:
+// The chaos indicators of core/chaos.hpp (tangent map, λ_max, FLI, MEGNO, the spectrum, GALI)
+// on every map:
 // - on the bounded orbits of the integrable maps, over 10⁵ steps, ⟨Y⟩ → 2 and λ_n decays like
 //   ln(n)/n;
 // - on the flow at non-integrable parameters (β = α, δ = 12α: a homogeneous quartic with a
 //   chaotic sea), λ_n stays positive and ⟨Y⟩ grows linearly, as λ n / 2;
+// - where det J = 1 the spectrum sums to 0 in ± pairs; GALI_2 stays up on tori and collapses on
+//   chaotic orbits;
 // - a batch's lanes give the scalar path's bits.
 #include <gtest/gtest.h>
 
@@ -12,6 +15,7 @@
 #include <vector>
 
 #include "core/chaos.hpp"
+#include "core/orbit_chaos.hpp"
 #include "kernels/catalogue.hpp"
 #include "kernels/maps.hpp"
 
@@ -20,18 +24,19 @@ namespace {
 
 struct Indicators {
   double lyapunov, fli, megno;
+  std::array<double, 4> spectrum;
+  double gali2, gali4;
 };
 
 Indicators after(const Model& model, const Phase& x, long long steps) {
   Ensemble e = model.start(std::span(&x, 1), Start::taylor, 1e8);
-  std::vector<double> state(model.state_names().size()), deviation(state.size());
-  for (std::size_t k = 0; k < state.size(); ++k) {
-    state[k] = e.state[k][0];
-    deviation[k] = k < 4 ? 0.5 : 0.0;
-  }
-  ChaosSums<double> sums;
-  EXPECT_EQ(model.advance_with_tangent(state, deviation, sums, steps), 0.0) << model.name();
-  return {sums.lyapunov(), sums.fli, sums.megno()};
+  std::vector<double> state(model.state_names().size());
+  for (std::size_t k = 0; k < state.size(); ++k) state[k] = e.state[k][0];
+  OrbitChaos chaos(state.size());
+  EXPECT_EQ(model.advance_chaos(state, chaos, steps), 0.0) << model.name();
+  return {chaos.sums.lyapunov(), chaos.sums.fli, chaos.sums.megno(),
+          {chaos.lyapunov(0), chaos.lyapunov(1), chaos.lyapunov(2), chaos.lyapunov(3)},
+          chaos.gali[0], chaos.gali[1]};
 }
 
 // Margins of the integrable maps' indicators at 10⁵ steps. ⟨Y⟩ approaches 2 as 2 − O(ln n/n)
@@ -46,10 +51,14 @@ TEST(Chaos, IntegrableMapsHaveMegnoTwoAndLyapunovDecayingAsLogNOverN) {
         const Indicators i = after(*model, x, n);
         const double bound = std::log(static_cast<double>(n)) / static_cast<double>(n);
         EXPECT_LE(std::fabs(i.lyapunov), bound) << m.name << " n = " << n;
+        for (double l : i.spectrum) EXPECT_LE(std::fabs(l), 2 * bound) << m.name << " n = " << n;
         if (n == 100000) {
           EXPECT_NEAR(i.megno, 2.0, megno_margin) << m.name;
-          std::printf("[ chaos ] %-16s n = 1e5: lambda = %.2e (ln(n)/n = %.2e), FLI = %.2f, <Y> = %.4f\n",
-                      std::string(m.name).c_str(), i.lyapunov, bound, i.fli, i.megno);
+          EXPECT_GT(i.gali2, 1e-3) << m.name;  // a torus: GALI_2 does not fall exponentially
+          std::printf("[ chaos ] %-16s n = 1e5: lambda = %.2e (ln(n)/n = %.2e), FLI = %.2f, "
+                      "<Y> = %.4f, GALI_2 = %.2e, GALI_4 = %.1e\n",
+                      std::string(m.name).c_str(), i.lyapunov, bound, i.fli, i.megno, i.gali2,
+                      i.gali4);
         }
       }
     }
@@ -65,10 +74,45 @@ TEST(Chaos, NonIntegrableFlowHasPositiveLyapunovAndMegnoGrowingLinearly) {
                 "(lambda n / 2 = %.1f)\n", whole.lyapunov, half.megno, whole.megno,
                 whole.lyapunov * 20000 / 2);
     EXPECT_GT(whole.lyapunov, 0.005);
+    EXPECT_NEAR(whole.spectrum[0], whole.lyapunov, 0.1 * whole.lyapunov);  // the same λ_1
+    // e^{−(λ1 − λ2) n} until the two vectors agree to round-off: far below any torus' value
+    EXPECT_LT(whole.gali2, 1e-8);
+    std::printf("[ chaos ] flow, delta = 12 alpha: lambda_1 = %.4f, GALI_2 = %.1e, GALI_4 = %.1e\n",
+                whole.spectrum[0], whole.gali2, whole.gali4);
     EXPECT_GT(whole.fli, 100.0);
     EXPECT_NEAR(whole.megno / half.megno, 2.0, 0.4);                   // linear growth
     EXPECT_NEAR(whole.megno, whole.lyapunov * 20000 / 2, 0.2 * whole.megno);  // ≈ λ n / 2
   }
+}
+
+// det J = 1: each step's Gram–Schmidt norms multiply to 1, so the spectrum sums to 0 to
+// round-off on regular and chaotic orbits alike; on a chaotic orbit it comes in ± pairs
+// (λ_1 = −λ_4 > 0, λ_2 = −λ_3 ≈ 0), while a regular orbit's four decay like ln(n)/n (the
+// integrable maps' test). case2-hky and case3, whose det J is not 1 (docs/chaos.md), are left
+// out.
+constexpr double spectrum_sum_tolerance = 1e-12;  // per step, summed over n steps / n
+
+TEST(Chaos, SpectraOfVolumePreservingMapsSumToZeroInPlusMinusPairs) {
+  const auto check = [](const Model& model, const Phase& x, const std::string& what,
+                        bool chaotic) {
+    const Indicators i = after(model, x, 20000);
+    const double sum = i.spectrum[0] + i.spectrum[1] + i.spectrum[2] + i.spectrum[3];
+    std::printf("[ spectrum ] %-28s %+.3e %+.3e %+.3e %+.3e (sum %.1e)\n", what.c_str(),
+                i.spectrum[0], i.spectrum[1], i.spectrum[2], i.spectrum[3], sum);
+    EXPECT_LE(std::fabs(sum), spectrum_sum_tolerance) << what;
+    if (!chaotic) return;
+    EXPECT_NEAR(i.spectrum[0], -i.spectrum[3], 0.05 * i.spectrum[0]) << what;
+    EXPECT_NEAR(i.spectrum[1], -i.spectrum[2], 0.05 * i.spectrum[0]) << what;
+    EXPECT_LT(std::fabs(i.spectrum[1]), 0.05 * i.spectrum[0]) << what;
+  };
+  for (const MapEntry& m : catalogue()) {
+    if (m.name == "case2-hky" || m.name == "case3") continue;
+    check(*make_model(m.name, param_values(m.facts->example)), Phase{0.3, 0.2, 0.1, 0.25},
+          std::string(m.name), false);
+  }
+  check(*make_model("flow", {{"A", 0.0}, {"B", 0.0}, {"alpha", 0.25}, {"beta", 0.25},
+                             {"delta", 3.0}, {"h", 0.05}}),
+        Phase{0.5, 0.5, 0.3, 0.6}, "flow, delta = 12 alpha", true);
 }
 
 // Two orbits in the lanes of an SSE2 batch (the ISA of every x86-64 build) give, step by step,

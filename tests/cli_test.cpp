@@ -372,7 +372,8 @@ TEST_F(Cli, OrbitChaosColumnsFollowTheSameOrbit) {
   ASSERT_EQ(c.size(), 4u);
   EXPECT_EQ(c[0], (std::vector<std::string>{"n", "q1", "q2", "p1", "p2", "H", "I1", "I2",
                                             "H_cont", "I_case1_cont", "lyapunov", "fli",
-                                            "megno"}));
+                                            "megno", "lyapunov_1", "lyapunov_2", "lyapunov_3",
+                                            "lyapunov_4", "gali_2", "gali_4"}));
   EXPECT_EQ(c[1][10], "nan");  // λ and ⟨Y⟩ are not defined before a step
   EXPECT_EQ(c[1][11], "0");
   for (std::size_t k = 1; k < c.size(); ++k)

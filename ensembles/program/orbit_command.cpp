@@ -76,25 +76,24 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
   for (const auto& name : model->invariant_names()) out << ',' << name;
   for (const auto& name : continuous->invariant_names()) out << ',' << name << "_cont";
-  if (o.chaos) out << ",lyapunov,fli,megno";
+  if (o.chaos) out << ",lyapunov,fli,megno,lyapunov_1,lyapunov_2,lyapunov_3,lyapunov_4,gali_2,gali_4";
   out << '\n';
   // The chaos indicators follow the orbit's own state with the tangent map (the same values,
-  // bit for bit, as the rows' steps); at n = 0 they are not yet defined (NaN for λ and ⟨Y⟩).
-  std::vector<double> state(model->state_names().size()), deviation(state.size());
-  for (std::size_t k = 0; k < state.size(); ++k) {
-    state[k] = e.state[k][0];
-    deviation[k] = k < 4 ? 0.5 : 0.0;  // initial_deviation()
-  }
-  ChaosSums<double> sums;
+  // bit for bit, as the rows' steps); at n = 0 the exponents and ⟨Y⟩ are not yet defined (NaN).
+  std::vector<double> state(model->state_names().size());
+  for (std::size_t k = 0; k < state.size(); ++k) state[k] = e.state[k][0];
+  OrbitChaos chaos(state.size());
   const auto more_columns = [&] {
     const Phase x = model->phase(e, 0);
     std::vector<double> values = continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
     if (!o.chaos) return values;
-    if (sums.steps == 0) {
-      values.insert(values.end(), {std::nan(""), 0.0, std::nan("")});
-    } else {
-      values.insert(values.end(), {sums.lyapunov(), sums.fli, sums.megno()});
-    }
+    const auto& sums = chaos.sums;
+    const bool stepped = sums.steps > 0;
+    const double nan = std::nan("");
+    values.insert(values.end(), {stepped ? sums.lyapunov() : nan, sums.fli,
+                                 stepped ? sums.megno() : nan});
+    for (std::size_t i = 0; i < 4; ++i) values.push_back(stepped ? chaos.lyapunov(i) : nan);
+    values.insert(values.end(), {chaos.gali[0], chaos.gali[1]});
     return values;
   };
   RunPlan plan;
@@ -113,7 +112,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
     model->advance(e, plan, Execution{});
-    if (o.chaos) model->advance_with_tangent(state, deviation, sums, plan.last - n);
+    if (o.chaos) model->advance_chaos(state, chaos, plan.last - n);
     n = plan.last;
   }
   return 0;
