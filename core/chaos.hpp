@@ -13,6 +13,7 @@
 //
 // (docs/chaos.md). Everything is computed in V through core/ops, so a batch's lanes give the
 // scalar path's bits.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 
@@ -21,15 +22,6 @@
 #include "core/ops.hpp"
 
 namespace qmaps {
-
-// The initial deviation: (1, 1, 1, 1)/2 over the phase-space part, 0 elsewhere (case3's clock
-// and energy).
-template <class V, std::size_t S>
-std::array<V, S> initial_deviation() {
-  std::array<V, S> w;
-  for (std::size_t k = 0; k < S; ++k) w[k] = V(k < 4 ? 0.5 : 0.0);
-  return w;
-}
 
 // One step of the state s and N deviation vectors w (states of V) by the map's own step on
 // Dual<V, N>. Returns the step's fault codes (0 for the explicit maps).
@@ -87,18 +79,6 @@ void add_growth(ChaosSums<V>& sums, V norm) {
   sums.megno_sum = sums.megno_sum + V(2.0) * sums.weighted / sums.steps;
 }
 
-// One step of the state s and its deviation w; the sums take the step's growth. Returns the
-// step's fault codes (0 for the explicit maps).
-template <class Map, class V>
-V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
-             typename Map::template State<V>& w, ChaosSums<V>& sums) {
-  std::array<typename Map::template State<V>, 1> one = {w};
-  const V fault = tangent_step<Map, 1>(c, s, one);
-  w = one[0];
-  add_growth(sums, normalize(w));
-  return fault;
-}
-
 // The spectrum and the GALIs need four deviation vectors each, the first four orthonormalized
 // every step (Benettin: Σ ln of the Gram–Schmidt norms / n → λ_1 ≥ … ≥ λ_4), the other four only
 // normalized (GALI_k: the volume their first k span, from Gram–Schmidt of copies).
@@ -110,9 +90,33 @@ V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
 // comes in pairs λ_1 = −λ_4, λ_2 = −λ_3 (symplectic). On a regular orbit of two degrees of
 // freedom GALI_2 stays near a positive value and GALI_4 falls as a power of n; on a chaotic one
 // both fall exponentially (GALI_2 as e^{−(λ_1 − λ_2)n}).
+//
+// One step of all of them: the state s and its nine deviations w (w[0] for λ, FLI and MEGNO, w[1…4]
+// for the spectrum, w[5…8] for the GALIs) by the map's own step on Dual<V, 9>; `sums` and
+// `logs` (Σ ln r_i) take the step. Returns the step's fault codes (0 for the explicit maps).
+template <class Map, class V>
+V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
+             std::array<typename Map::template State<V>, 9>& w, ChaosSums<V>& sums,
+             std::array<V, 4>& logs) {
+  const V fault = tangent_step<Map, 9>(c, s, w);
+  add_growth(sums, normalize(w[0]));
+  std::array<typename Map::template State<V>, 4> spectrum;
+  std::copy(w.begin() + 1, w.begin() + 5, spectrum.begin());
+  std::array<V, 4> norms;
+  gram_schmidt(spectrum, norms);
+  for (std::size_t i = 0; i < 4; ++i) {
+    logs[i] = logs[i] + ops::log(norms[i]);
+    w[1 + i] = spectrum[i];
+    normalize(w[5 + i]);
+  }
+  return fault;
+}
+
+// GALI_k of the deviations w[5…8] that chaos_step keeps.
 template <class V, std::size_t S>
-V gali(const std::array<std::array<V, S>, 4>& w, std::size_t k) {
-  auto copy = w;
+V gali(const std::array<std::array<V, S>, 9>& w, std::size_t k) {
+  std::array<std::array<V, S>, 4> copy;
+  std::copy(w.begin() + 5, w.end(), copy.begin());
   std::array<V, 4> norms;
   gram_schmidt(copy, norms);
   V volume = norms[0];

@@ -92,42 +92,21 @@ class ModelOf final : public Model {
   double advance_chaos(std::span<double> state, OrbitChaos& chaos,
                        long long steps) const override {
     using State = typename Map::template State<double>;
-    // The nine deviations step together: 1 for λ, FLI and MEGNO, 4 for the spectrum, 4 for the
-    // GALIs.
-    State s;
-    std::array<State, 9> w;
-    const auto in = [&](std::span<const double> from, State& to) {
+    const auto in = [](std::span<const double> from, State& to) {
       if (from.size() != to.size()) throw usage_error("a state or deviation of the wrong size");
       std::copy(from.begin(), from.end(), to.begin());
     };
+    State s;
+    std::array<State, 9> w;
     in(state, s);
-    in(chaos.deviation, w[0]);
-    for (std::size_t i = 0; i < 4; ++i) {
-      in(chaos.spectrum[i], w[1 + i]);
-      in(chaos.gali_vectors[i], w[5 + i]);
-    }
-    std::array<State, 4> spectrum, gali_vectors;
+    for (std::size_t j = 0; j < w.size(); ++j) in(chaos.deviations[j], w[j]);
     double fault = 0;
-    for (long long n = 0; n < steps && fault == 0; ++n) {
-      fault = tangent_step<Map, 9>(c_, s, w);
-      add_growth(chaos.sums, normalize(w[0]));
-      std::copy(w.begin() + 1, w.begin() + 5, spectrum.begin());
-      std::array<double, 4> norms;
-      gram_schmidt(spectrum, norms);
-      for (std::size_t i = 0; i < 4; ++i) {
-        chaos.spectrum_logs[i] += ops::log(norms[i]);
-        w[1 + i] = spectrum[i];
-        normalize(w[5 + i]);
-      }
-    }
-    std::copy(w.begin() + 5, w.end(), gali_vectors.begin());
-    chaos.gali = {gali(gali_vectors, 2), gali(gali_vectors, 4)};
+    for (long long n = 0; n < steps && fault == 0; ++n)
+      fault = chaos_step<Map>(c_, s, w, chaos.sums, chaos.spectrum_logs);
+    chaos.gali = {gali(w, 2), gali(w, 4)};
     std::copy(s.begin(), s.end(), state.begin());
-    std::copy(w[0].begin(), w[0].end(), chaos.deviation.begin());
-    for (std::size_t i = 0; i < 4; ++i) {
-      std::copy(w[1 + i].begin(), w[1 + i].end(), chaos.spectrum[i].begin());
-      std::copy(w[5 + i].begin(), w[5 + i].end(), chaos.gali_vectors[i].begin());
-    }
+    for (std::size_t j = 0; j < w.size(); ++j)
+      std::copy(w[j].begin(), w[j].end(), chaos.deviations[j].begin());
     return fault;
   }
 

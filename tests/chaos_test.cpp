@@ -116,29 +116,40 @@ TEST(Chaos, SpectraOfVolumePreservingMapsSumToZeroInPlusMinusPairs) {
 }
 
 // Two orbits in the lanes of an SSE2 batch (the ISA of every x86-64 build) give, step by step,
-// the scalar path's bits: state, deviation and sums.
+// the scalar path's bits: state, the nine deviations, the sums and the GALIs.
 TEST(Chaos, BatchLanesGiveTheScalarBits) {
   using B = xsimd::batch<double, xsimd::sse2>;
   kernels::for_each_map([](auto map) {
     using Map = decltype(map);
     const auto values = resolve_params(Map::name, Map::params, param_values(Map::facts.example));
     const auto c = Map::coefficients(values);
-    const auto s0 = Map::from_phase_space(c, Phase{0.3, 0.2, 0.1, 0.25}, Start::taylor);
-    const auto s1 = Map::from_phase_space(c, Phase{-0.4, 0.1, 0.3, -0.2}, Start::taylor);
-    auto a = s0, b = s1;
-    constexpr std::size_t S = std::tuple_size_v<decltype(a)>;
-    auto wa = initial_deviation<double, S>(), wb = wa;
-    ChaosSums<double> sa, sb;
-    typename Map::template State<B> s, w = initial_deviation<B, S>();
+    using State = typename Map::template State<double>;
+    constexpr std::size_t S = std::tuple_size_v<State>;
+    const OrbitChaos start(S);
+    std::array<State, 2> s = {Map::from_phase_space(c, Phase{0.3, 0.2, 0.1, 0.25}, Start::taylor),
+                              Map::from_phase_space(c, Phase{-0.4, 0.1, 0.3, -0.2}, Start::taylor)};
+    std::array<std::array<State, 9>, 2> w;
+    std::array<ChaosSums<double>, 2> sums;
+    std::array<std::array<double, 4>, 2> logs{};
+    typename Map::template State<B> sb;
+    std::array<typename Map::template State<B>, 9> wb;
+    ChaosSums<B> sums_b;
+    std::array<B, 4> logs_b;
+    logs_b.fill(B(0.0));
+    const auto pack = [](double a, double b) {
+      alignas(16) const double two[2] = {a, b};
+      return B::load_aligned(two);
+    };
     for (std::size_t k = 0; k < S; ++k) {
-      alignas(16) const double two[2] = {s0[k], s1[k]};
-      s[k] = B::load_aligned(two);
+      sb[k] = pack(s[0][k], s[1][k]);
+      for (std::size_t j = 0; j < 9; ++j) {
+        w[0][j][k] = w[1][j][k] = start.deviations[j][k];
+        wb[j][k] = B(start.deviations[j][k]);
+      }
     }
-    ChaosSums<B> sums;
     for (int n = 0; n < 200; ++n) {
-      chaos_step<Map>(c, a, wa, sa);
-      chaos_step<Map>(c, b, wb, sb);
-      chaos_step<Map>(c, s, w, sums);
+      for (int o = 0; o < 2; ++o) chaos_step<Map>(c, s[o], w[o], sums[o], logs[o]);
+      chaos_step<Map>(c, sb, wb, sums_b, logs_b);
     }
     const auto same = [](B batch, double lane0, double lane1) {
       const auto l = ops::lanes_of(batch);
@@ -146,12 +157,17 @@ TEST(Chaos, BatchLanesGiveTheScalarBits) {
              std::bit_cast<std::uint64_t>(l[1]) == std::bit_cast<std::uint64_t>(lane1);
     };
     for (std::size_t k = 0; k < S; ++k) {
-      EXPECT_TRUE(same(s[k], a[k], b[k])) << Map::name;
-      EXPECT_TRUE(same(w[k], wa[k], wb[k])) << Map::name;
+      EXPECT_TRUE(same(sb[k], s[0][k], s[1][k])) << Map::name;
+      for (std::size_t j = 0; j < 9; ++j)
+        EXPECT_TRUE(same(wb[j][k], w[0][j][k], w[1][j][k])) << Map::name << " deviation " << j;
     }
-    EXPECT_TRUE(same(sums.log_growth, sa.log_growth, sb.log_growth)) << Map::name;
-    EXPECT_TRUE(same(sums.fli, sa.fli, sb.fli)) << Map::name;
-    EXPECT_TRUE(same(sums.megno_sum, sa.megno_sum, sb.megno_sum)) << Map::name;
+    EXPECT_TRUE(same(sums_b.log_growth, sums[0].log_growth, sums[1].log_growth)) << Map::name;
+    EXPECT_TRUE(same(sums_b.fli, sums[0].fli, sums[1].fli)) << Map::name;
+    EXPECT_TRUE(same(sums_b.megno_sum, sums[0].megno_sum, sums[1].megno_sum)) << Map::name;
+    for (std::size_t i = 0; i < 4; ++i)
+      EXPECT_TRUE(same(logs_b[i], logs[0][i], logs[1][i])) << Map::name << " lambda " << i;
+    for (std::size_t k : {2, 4})
+      EXPECT_TRUE(same(gali(wb, k), gali(w[0], k), gali(w[1], k))) << Map::name << " GALI " << k;
   });
 }
 
