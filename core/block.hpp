@@ -146,6 +146,17 @@ template <class Map, class V, int K, bool keep_before>
     else
       Map::step(c, w[k]);
   };
+  // Keeps the crossing of `section` by chain k's `lanes` at step j of the chunk.
+  const auto keep = [&](ops::mask_t<V> lanes, const typename Map::template State<V>& before,
+                        int k, long long j, int section) {
+    auto& x = watch.crossings[n++];
+    if constexpr (keep_before) x.before = before;
+    x.after = w[k];
+    x.lanes = lanes;
+    x.step = first + j + 1;
+    x.chain = k;
+    x.section = section;
+  };
   if (watch.count == 0) {
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
@@ -176,15 +187,8 @@ template <class Map, class V, int K, bool keep_before>
         const auto down = (previous[k] > value) & (now <= value);
         const ops::mask_t<V> crossing =
             (direction > 0 ? up : direction < 0 ? down : up | down) & live[k];
-        if (ops::any(crossing)) [[unlikely]] {
-          auto& x = watch.crossings[n++];
-          if constexpr (keep_before) x.before = before;
-          x.after = w[k];
-          x.lanes = crossing;
-          x.step = first + j + 1;
-          x.chain = k;
-          x.section = 0;
-        }
+        if (ops::any(crossing)) [[unlikely]]
+          keep(crossing, before, k, j, 0);
         previous[k] = now;
       }
   } else {
@@ -201,15 +205,8 @@ template <class Map, class V, int K, bool keep_before>
         for (std::size_t i = 0; i < watch.count; ++i) {
           const V now = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
           const ops::mask_t<V> crossing = crosses(*watch.sections[i], previous[k][i], now) & alive[k];
-          if (ops::any(crossing)) [[unlikely]] {
-            auto& x = watch.crossings[n++];
-            if constexpr (keep_before) x.before = before;
-            x.after = w[k];
-            x.lanes = crossing;
-            x.step = first + j + 1;
-            x.chain = k;
-            x.section = static_cast<int>(i);
-          }
+          if (ops::any(crossing)) [[unlikely]]
+            keep(crossing, before, k, j, static_cast<int>(i));
           previous[k][i] = now;
         }
       }
