@@ -1,23 +1,31 @@
 #pragma once
-// Chaos indicators of an orbit from its tangent map (core/dual.hpp): a deviation vector w is
-// advanced with the state by the map's own step, its growth measured and w renormalized to 1
-// every step. With δ_k = |w_k| after step k (over the phase-space part, the state's first four
-// components; w_0 of norm 1) and n steps:
+// Chaos indicators of an orbit from its tangent map (core/dual.hpp): deviation vectors advance
+// with the state by the map's own step. Norms and products are over the phase-space part, the
+// state's first four components. With u_n the first deviation after n steps (|u_0| = 1) and
+// L_n = ln |u_n|, its growth (kept as L = base + ½ ln |u|², u rescaled to 1 only when |u|²
+// leaves [2^-300, 2^300], so no step pays a square root or a division for it):
 //
-//   L_n     = Σ_{k≤n} ln δ_k                    the log of the deviation's growth
-//   λ_n     = L_n / n                           the largest Lyapunov exponent, per step
-//   FLI_n   = max_{k≤n} L_k                     the fast Lyapunov indicator
-//   Y_n     = (2/n) Σ_{k≤n} k ln δ_k            MEGNO for maps
-//   ⟨Y⟩_n   = (1/n) Σ_{k≤n} Y_k                 its mean: → 2 on quasi-periodic orbits,
-//                                               → 0 on stable periodic ones, ≈ λ n / 2 on chaotic
+//   λ_n     = L_n / n                                the largest Lyapunov exponent, per step
+//   FLI_n   = max_{k≤n} L_k                          the fast Lyapunov indicator
+//   Y_n     = (2/n) Σ_{k≤n} k ln(|u_k|/|u_k−1|)      MEGNO for maps,
+//           = 2 L_n − (2/n) Σ_{k<n} L_k              by Abel summation (one log per step)
+//   ⟨Y⟩_n   = (1/n) Σ_{k≤n} Y_k                      its mean: → 2 on quasi-periodic orbits,
+//                                                    → 0 on stable periodic ones, ≈ λ n/2 on chaotic
 //
-// (docs/chaos.md). Everything is computed in V through core/ops, so a batch's lanes give the
-// scalar path's bits.
-#include <algorithm>
+// The spectrum and the GALIs use eight more deviations. Four are orthonormalized by modified
+// Gram–Schmidt every `every` steps (Benettin); with r_i the i-th norm at each of those steps,
+//   λ_i,n   = (1/n) Σ ln r_i                         λ_1 ≥ … ≥ λ_4
+// The other four are only normalized every `every` steps (against overflow); at the end
+//   GALI_k  = σ_1 ⋯ σ_k                              of the matrix of their k first, normalized
+// (core/gali.cpp). Where det J = 1, Σ_i ln r_i = 0 to round-off and the spectrum comes in pairs
+// λ_1 = −λ_4, λ_2 = −λ_3. On a regular orbit GALI_2 stays near a positive value and GALI_4 falls
+// as a power of n; on a chaotic one both fall exponentially (docs/chaos.md).
+//
+// Everything here is written once over V through core/ops, so a batch's lanes give the scalar
+// path's bits.
 #include <array>
 #include <cstddef>
 
-#include "core/chaos_sums.hpp"
 #include "core/dual.hpp"
 #include "core/ops.hpp"
 
@@ -46,82 +54,60 @@ V phase_dot(const std::array<V, S>& a, const std::array<V, S>& b) {
   return sum;
 }
 
-// w /= |w| (over the phase-space part); returns |w|.
+// w ·= 1/|w| where `due`; returns |w|.
 template <class V, std::size_t S>
-V normalize(std::array<V, S>& w) {
+V normalize(std::array<V, S>& w, ops::mask_t<V> due) {
   const V norm = ops::sqrt(phase_dot(w, w));
-  for (auto& component : w) component = component / norm;
+  const V inverse = V(1.0) / norm;
+  for (auto& component : w) component = ops::select(due, component * inverse, component);
   return norm;
 }
 
-// Modified Gram–Schmidt over the phase-space part, in place and in order: w_i loses its
-// projection on each of w_0 … w_{i−1} in turn, then norms[i] = |w_i| and w_i is normalized.
-// The product of the norms is the volume the vectors span.
+// Modified Gram–Schmidt over the phase-space part, in order, where `due`: w_i loses its
+// projection on each of the new w_0 … w_{i−1} in turn, then norms[i] = |w_i| and w_i is
+// normalized. The product of the norms is the volume the vectors spanned.
 template <class V, std::size_t S, std::size_t N>
-void gram_schmidt(std::array<std::array<V, S>, N>& w, std::array<V, N>& norms) {
+void gram_schmidt(std::array<std::array<V, S>, N>& w, std::array<V, N>& norms,
+                  ops::mask_t<V> due) {
   for (std::size_t i = 0; i < N; ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       const V d = phase_dot(w[i], w[j]);
-      for (std::size_t k = 0; k < S; ++k) w[i][k] = ops::neg(ops::fms(d, w[j][k], w[i][k]));
+      for (std::size_t k = 0; k < S; ++k)
+        w[i][k] = ops::select(due, ops::neg(ops::fms(d, w[j][k], w[i][k])), w[i][k]);
     }
-    norms[i] = normalize(w[i]);
+    norms[i] = normalize(w[i], due);
   }
 }
 
-// The sums' update for a step in which the deviation grew by δ = `norm`.
+// The running sums of the first deviation (their definitions above).
 template <class V>
-void add_growth(ChaosSums<V>& sums, V norm) {
-  const V growth = ops::log(norm);
-  sums.steps = sums.steps + V(1.0);
-  sums.log_growth = sums.log_growth + growth;
-  sums.fli = ops::max(sums.fli, sums.log_growth);
-  sums.weighted = ops::fma(sums.steps, growth, sums.weighted);
-  sums.megno_sum = sums.megno_sum + V(2.0) * sums.weighted / sums.steps;
-}
+struct Growth {
+  V base, sum, fli, megno_sum, steps;  // L − ½ ln|u|², Σ_{k<n} L_k, FLI_n, Σ Y_k, n
 
-// The spectrum and the GALIs need four deviation vectors each, the first four orthonormalized
-// every step (Benettin: Σ ln of the Gram–Schmidt norms / n → λ_1 ≥ … ≥ λ_4), the other four only
-// normalized (GALI_k: the volume their first k span, from Gram–Schmidt of copies).
-//
-//   λ_i,n   = (1/n) Σ_{k≤n} ln r_i,k     r_i,k: the i-th Gram–Schmidt norm after step k
-//   GALI_k  = |ŵ_1 ∧ … ∧ ŵ_k|            ŵ_i: the deviations, each of norm 1
-//
-// For a map of det J = 1, Σ_i ln r_i,k = 0 to round-off each step: the spectrum sums to 0 and
-// comes in pairs λ_1 = −λ_4, λ_2 = −λ_3 (symplectic). On a regular orbit of two degrees of
-// freedom GALI_2 stays near a positive value and GALI_4 falls as a power of n; on a chaotic one
-// both fall exponentially (GALI_2 as e^{−(λ_1 − λ_2)n}).
-//
-// One step of all of them: the state s and its nine deviations w (w[0] for λ, FLI and MEGNO, w[1…4]
-// for the spectrum, w[5…8] for the GALIs) by the map's own step on Dual<V, 9>; `sums` and
-// `logs` (Σ ln r_i) take the step. Returns the step's fault codes (0 for the explicit maps).
-template <class Map, class V>
-V chaos_step(const typename Map::Coeffs& c, typename Map::template State<V>& s,
-             std::array<typename Map::template State<V>, 9>& w, ChaosSums<V>& sums,
-             std::array<V, 4>& logs) {
-  const V fault = tangent_step<Map, 9>(c, s, w);
-  add_growth(sums, normalize(w[0]));
-  std::array<typename Map::template State<V>, 4> spectrum;
-  std::copy(w.begin() + 1, w.begin() + 5, spectrum.begin());
-  std::array<V, 4> norms;
-  gram_schmidt(spectrum, norms);
-  for (std::size_t i = 0; i < 4; ++i) {
-    logs[i] = logs[i] + ops::log(norms[i]);
-    w[1 + i] = spectrum[i];
-    normalize(w[5 + i]);
+  // L_n of the deviation u.
+  template <std::size_t S>
+  V log_growth(const std::array<V, S>& u) const {
+    return ops::fma(V(0.5), ops::log(phase_dot(u, u)), base);
   }
-  return fault;
-}
+  V lyapunov(V L) const { return L / steps; }
+  V megno() const { return megno_sum / steps; }
 
-// GALI_k of the deviations w[5…8] that chaos_step keeps.
-template <class V, std::size_t S>
-V gali(const std::array<std::array<V, S>, 9>& w, std::size_t k) {
-  std::array<std::array<V, S>, 4> copy;
-  std::copy(w.begin() + 5, w.end(), copy.begin());
-  std::array<V, 4> norms;
-  gram_schmidt(copy, norms);
-  V volume = norms[0];
-  for (std::size_t i = 1; i < k; ++i) volume = volume * norms[i];
-  return volume;
-}
+  // The sums after a step that took the deviation to u (rescaled here when it must be).
+  template <std::size_t S>
+  void add_step(std::array<V, S>& u) {
+    const V r2 = phase_dot(u, u);
+    const auto far = (r2 > V(0x1p300)) | ((r2 < V(0x1p-300)) & (r2 > V(0.0)));
+    if (ops::any(far)) [[unlikely]] {  // u → u/|u|, its log moved into base
+      base = ops::select(far, ops::fma(V(0.5), ops::log(r2), base), base);
+      normalize(u, far);
+    }
+    const V L = log_growth(u);
+    steps = steps + V(1.0);
+    const V Y = V(2.0) * (L - sum / steps);
+    megno_sum = megno_sum + Y;
+    sum = sum + L;
+    fli = ops::max(fli, L);
+  }
+};
 
 }  // namespace qmaps

@@ -10,6 +10,8 @@
 // values are exactly those of the plain step: a value never reads a derivative.
 //
 // Comparisons and masks read the values only; floor's derivative is 0 and abs's is sign·d.
+// Calls are qualified (ops::neg, not neg): unqualified, argument-dependent lookup would find
+// xsimd's own neg, whose AVX-512 form is 0 − a (+0 → +0).
 #include <array>
 #include <cstddef>
 #include <type_traits>
@@ -45,10 +47,11 @@ struct Dual {
     for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::fma(a.d[i], b.v, a.v * b.d[i]);
     return r;
   }
-  friend Dual operator/(const Dual& a, const Dual& b) {  // (a.d − q·b.d)/b.v, q = a.v/b.v
+  friend Dual operator/(const Dual& a, const Dual& b) {  // (a.d − q·b.d)·(1/b.v), q = a.v/b.v
     Dual r;
     r.v = a.v / b.v;
-    for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::neg(ops::fms(r.v, b.d[i], a.d[i])) / b.v;
+    const V inverse = V(1.0) / b.v;  // one division for every direction
+    for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::neg(ops::fms(r.v, b.d[i], a.d[i])) * inverse;
     return r;
   }
   friend auto operator<(const Dual& a, const Dual& b) { return a.v < b.v; }
@@ -76,54 +79,54 @@ struct traits<Dual<V, N>> {
 template <class V, std::size_t N>
 inline Dual<V, N> fma(const Dual<V, N>& a, const Dual<V, N>& b, const Dual<V, N>& c) {
   Dual<V, N> r;  // value a·b + c rounded once; derivative a.d·b.v + (a.v·b.d + c.d)
-  r.v = fma(a.v, b.v, c.v);
-  for (std::size_t i = 0; i < N; ++i) r.d[i] = fma(a.d[i], b.v, fma(a.v, b.d[i], c.d[i]));
+  r.v = ops::fma(a.v, b.v, c.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::fma(a.d[i], b.v, ops::fma(a.v, b.d[i], c.d[i]));
   return r;
 }
 template <class V, std::size_t N>
 inline Dual<V, N> fms(const Dual<V, N>& a, const Dual<V, N>& b, const Dual<V, N>& c) {
   Dual<V, N> r;  // value a·b − c rounded once; derivative a.d·b.v + (a.v·b.d − c.d)
-  r.v = fms(a.v, b.v, c.v);
-  for (std::size_t i = 0; i < N; ++i) r.d[i] = fma(a.d[i], b.v, fms(a.v, b.d[i], c.d[i]));
+  r.v = ops::fms(a.v, b.v, c.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::fma(a.d[i], b.v, ops::fms(a.v, b.d[i], c.d[i]));
   return r;
 }
 template <class V, std::size_t N>
-inline Dual<V, N> sqrt(const Dual<V, N>& a) {  // d/(2√v)
+inline Dual<V, N> sqrt(const Dual<V, N>& a) {  // d·(1/(2√v))
   Dual<V, N> r;
-  r.v = sqrt(a.v);
-  const V twice = r.v + r.v;
-  for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] / twice;
+  r.v = ops::sqrt(a.v);
+  const V inverse = V(1.0) / (r.v + r.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] * inverse;
   return r;
 }
 template <class V, std::size_t N>
 inline Dual<V, N> select(mask_t<V> m, const Dual<V, N>& a, const Dual<V, N>& b) {
   Dual<V, N> r;
-  r.v = select(m, a.v, b.v);
-  for (std::size_t i = 0; i < N; ++i) r.d[i] = select(m, a.d[i], b.d[i]);
+  r.v = ops::select(m, a.v, b.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::select(m, a.d[i], b.d[i]);
   return r;
 }
 template <class V, std::size_t N>
 inline Dual<V, N> neg(const Dual<V, N>& a) {
   Dual<V, N> r;
-  r.v = neg(a.v);
-  for (std::size_t i = 0; i < N; ++i) r.d[i] = neg(a.d[i]);
+  r.v = ops::neg(a.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = ops::neg(a.d[i]);
   return r;
 }
 template <class V, std::size_t N>
 inline Dual<V, N> abs(const Dual<V, N>& a) {
-  return select(a.v < V(0.0), neg(a), a);
+  return ops::select(a.v < V(0.0), ops::neg(a), a);
 }
 template <class V, std::size_t N>
 inline Dual<V, N> floor(const Dual<V, N>& a) {
-  return Dual<V, N>(floor(a.v), {});
+  return Dual<V, N>(ops::floor(a.v), {});
 }
 template <class V, std::size_t N>  // max(a, b) = b > a ? b : a, as for V
 inline Dual<V, N> max(const Dual<V, N>& a, const Dual<V, N>& b) {
-  return select(b.v > a.v, b, a);
+  return ops::select(b.v > a.v, b, a);
 }
 template <class V, std::size_t N>
 inline Dual<V, N> min(const Dual<V, N>& a, const Dual<V, N>& b) {
-  return select(b.v < a.v, b, a);
+  return ops::select(b.v < a.v, b, a);
 }
 
 }  // namespace ops

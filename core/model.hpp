@@ -9,7 +9,6 @@
 #include <string_view>
 #include <vector>
 
-#include "core/orbit_chaos.hpp"
 #include "core/ensemble.hpp"
 #include "core/execution.hpp"
 #include "core/isa.hpp"
@@ -68,11 +67,10 @@ class Model {
   virtual bool time_per_orbit() const = 0;
   // Replaces every orbit's state by the one whose steps retrace it backward.
   virtual void reverse(Ensemble& e) const = 0;
-  // One orbit's state (components in the order of state_names()) advanced `steps` steps on the
-  // scalar path with its deviation vectors and chaos sums (core/orbit_chaos.hpp). Stops at the
-  // first step that faults, returning its code; else 0.
-  virtual double advance_chaos(std::span<double> state, OrbitChaos& chaos,
-                               long long steps) const = 0;
+  // The chaos indicators its state records (core/tangent_map.hpp), per orbit; none for a plain
+  // map.
+  virtual std::vector<std::string> indicator_names() const = 0;
+  virtual std::vector<double> indicators(const Ensemble& e, std::size_t orbit) const = 0;
   // a·b + c computed in a batch and in a scalar inside the map's `isa` translation unit: both
   // round twice there, or contraction is on (tests/contraction_test.cpp).
   virtual std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const = 0;

@@ -1,10 +1,10 @@
 #pragma once
 // ModelOf<Map>: the adapter that hides a map's type behind Model. It resolves the parameters once,
 // starts orbits, converts states, and hands runs to the runner (core/runner.hpp).
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
-#include "core/chaos.hpp"
 #include "core/error.hpp"
 #include "core/map_concept.hpp"
 #include "core/model.hpp"
@@ -15,9 +15,11 @@ namespace qmaps {
 template <KernelMap Map>
 class ModelOf final : public Model {
  public:
-  explicit ModelOf(const ParamValues& given)
+  // `extra`: what Map::coefficients takes beyond the parameters (a Tangent's orthonormalization).
+  template <class... Extra>
+  explicit ModelOf(const ParamValues& given, Extra... extra)
       : values_(resolve_params(Map::name, Map::params, given)),
-        c_(Map::coefficients(values_)),
+        c_(Map::coefficients(values_, extra...)),
         invariant_names_(Map::invariant_names(c_)) {}
 
   std::string_view name() const override { return Map::name; }
@@ -50,7 +52,10 @@ class ModelOf final : public Model {
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
-    run<Map>(c_, e, plan, x, observers);
+    Execution within = x;  // a map whose record fills the registers takes fewer chains
+    if constexpr (requires { Map::max_chains; })
+      within.chains = std::min(x.chains, Map::max_chains);
+    run<Map>(c_, e, plan, within, observers);
   }
   std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const override {
     return simd_path<Map>(isa).contraction_probe(a, b, c);
@@ -89,25 +94,20 @@ class ModelOf final : public Model {
     }
   }
 
-  double advance_chaos(std::span<double> state, OrbitChaos& chaos,
-                       long long steps) const override {
-    using State = typename Map::template State<double>;
-    const auto in = [](std::span<const double> from, State& to) {
-      if (from.size() != to.size()) throw usage_error("a state or deviation of the wrong size");
-      std::copy(from.begin(), from.end(), to.begin());
-    };
-    State s;
-    std::array<State, 9> w;
-    in(state, s);
-    for (std::size_t j = 0; j < w.size(); ++j) in(chaos.deviations[j], w[j]);
-    double fault = 0;
-    for (long long n = 0; n < steps && fault == 0; ++n)
-      fault = chaos_step<Map>(c_, s, w, chaos.sums, chaos.spectrum_logs);
-    chaos.gali = {gali(w, 2), gali(w, 4)};
-    std::copy(s.begin(), s.end(), state.begin());
-    for (std::size_t j = 0; j < w.size(); ++j)
-      std::copy(w[j].begin(), w[j].end(), chaos.deviations[j].begin());
-    return fault;
+  std::vector<std::string> indicator_names() const override {
+    if constexpr (requires { Map::indicator_names(); })
+      return Map::indicator_names();
+    else
+      return {};
+  }
+  std::vector<double> indicators(const Ensemble& e, std::size_t orbit) const override {
+    if constexpr (requires { Map::indicator_names(); }) {
+      std::vector<double> out(Map::indicator_names().size());
+      Map::indicators(c_, state_of(e, orbit), out.data());
+      return out;
+    } else {
+      return {};
+    }
   }
 
  private:

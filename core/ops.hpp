@@ -9,8 +9,8 @@
 //   neg(a)          −a exactly, signed zeros included. Never write unary minus on a batch:
 //                   xsimd 8's AVX-512 negation is 0 − a, which maps +0 to +0.
 //   sqrt, abs, floor  correctly rounded / exact on every path
-//   log             the C library's log, lane by lane on a batch: one function on every path, so
-//                   the same bits (it is not correctly rounded, and not fast: for indicators)
+//   log             natural log, one algorithm written below for every type (a long double's is
+//                   the C library's): within 2 ulp of the exact value, the same bits everywhere
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
 //   integer_lanes     the lanes of a value holding exact integers in [0, 2^52), as integers
@@ -22,6 +22,7 @@
 #include <concepts>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include <immintrin.h>
@@ -62,8 +63,14 @@ template <std::floating_point T>
 inline T abs(T a) { return std::fabs(a); }
 template <std::floating_point T>
 inline T floor(T a) { return std::floor(a); }
+// a = m · 2^e with m in [0.5, 1) (exact; a normal or subnormal, > 0), e as a value of T.
 template <std::floating_point T>
-inline T log(T a) { return std::log(a); }
+inline T split_exponent(T a, T& e) {
+  int k;
+  const T m = std::frexp(a, &k);
+  e = static_cast<T>(k);
+  return m;
+}
 template <std::floating_point T>
 inline T select(bool m, T a, T b) { return m ? a : b; }
 inline bool any(bool m) { return m; }
@@ -117,7 +124,12 @@ inline batch<A> fms(batch<A> a, batch<A> b, batch<A> c) {
   }
 }
 template <class A>
-inline batch<A> sqrt(batch<A> a) { return xsimd::sqrt(a); }
+inline batch<A> sqrt(batch<A> a) {
+  if constexpr (batch<A>::size == 8)  // xsimd's form reads an undefined register
+    return _mm512_maskz_sqrt_pd(0xFF, a);
+  else
+    return xsimd::sqrt(a);
+}
 template <class A>
 inline batch<A> abs(batch<A> a) { return xsimd::abs(a); }
 template <class A>
@@ -128,11 +140,16 @@ inline batch<A> floor(batch<A> a) {
     return xsimd::floor(a);
 }
 template <class A>
-inline batch<A> log(batch<A> a) {
-  alignas(64) std::array<double, batch<A>::size> x;
-  a.store_aligned(x.data());
-  for (double& v : x) v = std::log(v);
-  return batch<A>::load_aligned(x.data());
+inline batch<A> split_exponent(batch<A> a, batch<A>& e) {  // normal a only: log scales the rest
+  if constexpr (batch<A>::size == 8) {  // AVX-512 has both parts exactly, as doubles
+    e = batch<A>(_mm512_maskz_getexp_pd(0xFF, a)) + batch<A>(1.0);
+    return _mm512_maskz_getmant_pd(0xFF, a, _MM_MANT_NORM_p5_1, _MM_MANT_SIGN_src);
+  } else {
+    xsimd::batch<std::int64_t, A> k;
+    const batch<A> m = xsimd::frexp(a, k);
+    e = xsimd::to_float(k);
+    return m;
+  }
 }
 template <class A>
 inline batch<A> select(xsimd::batch_bool<double, A> m, batch<A> a, batch<A> b) {
@@ -205,6 +222,39 @@ inline std::array<std::uint64_t, lanes<V>> integer_lanes(V v) {
 }
 template <class V>
 inline V square(V a) { return a * a; }
+
+// ln a for double and batches, one algorithm: a = m·2^e with m in [√½, √2) (subnormals scaled by
+// 2^200 first, exactly), f = m − 1, s = f/(2 + f), and
+//   ln a = e·ln2 + 2s (1 + s²/3 + s⁴/5 + … + s²⁰/21)     |s| ≤ 0.1716: the series' tail < 1e-18
+// with ln2 = hi + lo, hi's low 21 bits 0 so that e·hi is exact. 0 → −inf, +inf → +inf, else NaN.
+template <class V>
+inline V log(V a) {
+  if constexpr (std::is_same_v<V, long double>) {
+    return std::log(a);
+  } else {
+    const auto tiny = a < V(0x1p-1000);
+    V e;
+    V m = ops::split_exponent(ops::select(tiny, a * V(0x1p200), a), e);
+    e = ops::select(tiny, e - V(200.0), e);
+    const auto low = m < V(0.70710678118654752440);
+    m = ops::select(low, m + m, m);
+    e = ops::select(low, e - V(1.0), e);
+    const V f = m - V(1.0);
+    const V s = f / (V(2.0) + f);
+    const V z = s * s;
+    V series = V(1.0 / 21);
+    for (int k = 19; k >= 3; k -= 2) series = ops::fma(series, z, V(1.0 / k));
+    const V two_s = s + s;
+    const V log_m = ops::fma(two_s * z, series, two_s);
+    constexpr double ln2_hi = std::bit_cast<double>(std::uint64_t{0x3fe62e42fee00000});
+    constexpr double ln2_lo = static_cast<double>(0.693147180559945309417232121458176568L - ln2_hi);
+    const V result = ops::fma(e, V(ln2_hi), ops::fma(e, V(ln2_lo), log_m));
+    const V inf(std::numeric_limits<double>::infinity());
+    const V special = ops::select(a == V(0.0), V(0.0) - inf,
+                             ops::select(a == inf, inf, V(std::numeric_limits<double>::quiet_NaN())));
+    return ops::select((a > V(0.0)) & (a < inf), result, special);
+  }
+}
 // −0 − a: exact negation (+0 → −0, −0 → +0), the same arithmetic on every path.
 template <class V>
 inline V neg(V a) { return V(-0.0) - a; }

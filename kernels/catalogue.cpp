@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/model_of.hpp"
+#include "core/tangent_map.hpp"
 #include "kernels/maps.hpp"
 
 namespace qmaps {
@@ -14,8 +15,13 @@ namespace {
 template <KernelMap Map>
 MapEntry entry() {
   return {Map::name, Map::summary, Map::equations, Map::invariant_summary, Map::params,
-          &Map::facts, [](const ParamValues& p) -> std::unique_ptr<Model> {
+          &Map::facts,
+          [](const ParamValues& p) -> std::unique_ptr<Model> {
             return std::make_unique<ModelOf<Map>>(p);
+          },
+          [](const ParamValues& p, const ChaosOptions& chaos) -> std::unique_ptr<Model> {
+            if (chaos.spectrum) return std::make_unique<ModelOf<Tangent<Map, 9>>>(p, chaos.every);
+            return std::make_unique<ModelOf<Tangent<Map, 1>>>(p, chaos.every);
           }};
 }
 
@@ -54,12 +60,26 @@ ParamValues parse_params(const std::vector<std::string>& sets) {
 
 std::span<const MapEntry> catalogue() { return maps(); }
 
-std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params) {
+static const MapEntry& entry_named(std::string_view name) {
   for (const auto& m : maps())
-    if (m.name == name) return m.make(params);
+    if (m.name == name) return m;
   std::string known;
   for (const auto& m : maps()) known += (known.empty() ? "" : ", ") + std::string(m.name);
   throw usage_error("unknown map '" + std::string(name) + "' (known maps: " + known + ")");
+}
+
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params) {
+  return entry_named(name).make(params);
+}
+std::unique_ptr<Model> continuous_model(const Model& model) {
+  const Potential v = model.continuous();
+  return make_model("flow", {{"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta},
+                             {"delta", v.delta}, {"h", 1.0}});
+}
+
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params,
+                                  const ChaosOptions& chaos) {
+  return entry_named(name).make_chaos(params, chaos);
 }
 
 }  // namespace qmaps

@@ -20,6 +20,14 @@ struct MapEntry {
   std::span<const ParamSpec> params;
   const MapFacts* facts;  // its example parameters, tolerances and preset
   std::unique_ptr<Model> (*make)(const ParamValues&);
+  std::unique_ptr<Model> (*make_chaos)(const ParamValues&, const struct ChaosOptions&);
+};
+
+// What a run's [chaos] records (core/tangent_map.hpp): λ, FLI and MEGNO from one deviation, or
+// also the spectrum and GALI_2, GALI_4 from nine; the spectrum orthonormalized every `every` steps.
+struct ChaosOptions {
+  bool spectrum = false;
+  long long every = 10;
 };
 
 std::span<const MapEntry> catalogue();
@@ -30,5 +38,11 @@ std::optional<double> number_in(const std::string& text);
 ParamValues parse_params(const std::vector<std::string>& sets);
 // The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
+// The continuous system `model` discretizes, as the flow (kernels/flow.hpp) of its potential:
+// its invariants are the continuous H and the case's second integral ("H_cont" beside the map's).
+std::unique_ptr<Model> continuous_model(const Model& model);
+// The same map advancing its chaos record with its state.
+std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params,
+                                  const ChaosOptions& chaos);
 
 }  // namespace qmaps

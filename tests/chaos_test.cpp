@@ -1,21 +1,24 @@
-// The chaos indicators of core/chaos.hpp (tangent map, λ_max, FLI, MEGNO, the spectrum, GALI)
-// on every map:
+// The chaos indicators of core/chaos.hpp (tangent map, λ_max, FLI, MEGNO, the spectrum, GALI),
+// recorded by each map's chaos model (core/tangent_map.hpp):
 // - on the bounded orbits of the integrable maps, over 10⁵ steps, ⟨Y⟩ → 2 and λ_n decays like
 //   ln(n)/n;
 // - on the flow at non-integrable parameters (β = α, δ = 12α: a homogeneous quartic with a
 //   chaotic sea), λ_n stays positive and ⟨Y⟩ grows linearly, as λ n / 2;
 // - where det J = 1 the spectrum sums to 0 in ± pairs; GALI_2 stays up on tori and collapses on
 //   chaotic orbits;
-// - a batch's lanes give the scalar path's bits.
+// - the chaos model's orbit is the plain map's, bit for bit;
+// - ops::log, which the indicators use, is within 2 ulp and gives a batch's lanes the scalar bits.
+// (Every path's bits for the chaos records: tests/agreement_test.cpp.)
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "core/chaos.hpp"
-#include "core/orbit_chaos.hpp"
+#include "core/ops.hpp"
 #include "kernels/catalogue.hpp"
 #include "kernels/maps.hpp"
 
@@ -28,16 +31,22 @@ struct Indicators {
   double gali2, gali4;
 };
 
-Indicators after(const Model& model, const Phase& x, long long steps) {
-  Ensemble e = model.start(std::span(&x, 1), Start::taylor, 1e8);
-  std::vector<double> state(model.state_names().size());
-  for (std::size_t k = 0; k < state.size(); ++k) state[k] = e.state[k][0];
-  OrbitChaos chaos(state.size());
-  EXPECT_EQ(model.advance_chaos(state, chaos, steps), 0.0) << model.name();
-  return {chaos.sums.lyapunov(), chaos.sums.fli, chaos.sums.megno(),
-          {chaos.lyapunov(0), chaos.lyapunov(1), chaos.lyapunov(2), chaos.lyapunov(3)},
-          chaos.gali[0], chaos.gali[1]};
+// The indicators after `steps` steps from x, the spectrum orthonormalized every `every` steps.
+Indicators after(std::string_view map, const ParamValues& params, const Phase& x, long long steps,
+                 long long every = 1) {
+  const auto model = make_model(map, params, ChaosOptions{true, every});
+  Ensemble e = model->start(std::span(&x, 1), Start::taylor, 1e8);
+  RunPlan plan;
+  plan.total = plan.last = steps;
+  plan.track_invariants = false;
+  model->advance(e, plan, Execution{});
+  EXPECT_LT(e.escape_step[0], 0) << map;
+  const auto v = model->indicators(e, 0);
+  return {v[0], v[1], v[2], {v[3], v[4], v[5], v[6]}, v[7], v[8]};
 }
+
+const ParamValues chaotic_flow = {{"A", 0.0}, {"B", 0.0}, {"alpha", 0.25}, {"beta", 0.25},
+                                  {"delta", 3.0}, {"h", 0.05}};
 
 // Margins of the integrable maps' indicators at 10⁵ steps. ⟨Y⟩ approaches 2 as 2 − O(ln n/n)
 // (measured 1.983 for Suris); λ_n ≤ ln(n)/n (measured 0.65 ln(n)/n).
@@ -45,10 +54,9 @@ constexpr double megno_margin = 0.1;
 
 TEST(Chaos, IntegrableMapsHaveMegnoTwoAndLyapunovDecayingAsLogNOverN) {
   for (const MapEntry& m : catalogue()) {
-    const auto model = make_model(m.name, param_values(m.facts->example));
     for (const Phase& x : {Phase{0.3, 0.2, 0.1, 0.25}, Phase{-0.4, 0.1, 0.3, -0.2}}) {
       for (long long n : {10000LL, 100000LL}) {
-        const Indicators i = after(*model, x, n);
+        const Indicators i = after(m.name, param_values(m.facts->example), x, n, 10);
         const double bound = std::log(static_cast<double>(n)) / static_cast<double>(n);
         EXPECT_LE(std::fabs(i.lyapunov), bound) << m.name << " n = " << n;
         for (double l : i.spectrum) EXPECT_LE(std::fabs(l), 2 * bound) << m.name << " n = " << n;
@@ -66,10 +74,9 @@ TEST(Chaos, IntegrableMapsHaveMegnoTwoAndLyapunovDecayingAsLogNOverN) {
 }
 
 TEST(Chaos, NonIntegrableFlowHasPositiveLyapunovAndMegnoGrowingLinearly) {
-  const auto model = make_model("flow", {{"A", 0.0}, {"B", 0.0}, {"alpha", 0.25}, {"beta", 0.25},
-                                         {"delta", 3.0}, {"h", 0.05}});
   for (const Phase& x : {Phase{0.5, 0.5, 0.3, 0.6}, Phase{1.0, 0.2, 0.0, 0.9}}) {
-    const Indicators half = after(*model, x, 10000), whole = after(*model, x, 20000);
+    const Indicators half = after("flow", chaotic_flow, x, 10000),
+                     whole = after("flow", chaotic_flow, x, 20000);
     std::printf("[ chaos ] flow, delta = 12 alpha: lambda = %.4f per step, <Y> %.1f -> %.1f "
                 "(lambda n / 2 = %.1f)\n", whole.lyapunov, half.megno, whole.megno,
                 whole.lyapunov * 20000 / 2);
@@ -93,11 +100,11 @@ TEST(Chaos, NonIntegrableFlowHasPositiveLyapunovAndMegnoGrowingLinearly) {
 constexpr double spectrum_sum_tolerance = 1e-12;  // per step, summed over n steps / n
 
 TEST(Chaos, SpectraOfVolumePreservingMapsSumToZeroInPlusMinusPairs) {
-  const auto check = [](const Model& model, const Phase& x, const std::string& what,
-                        bool chaotic) {
-    const Indicators i = after(model, x, 20000);
+  const auto check = [](std::string_view map, const ParamValues& params, const Phase& x,
+                        long long every, const std::string& what, bool chaotic) {
+    const Indicators i = after(map, params, x, 20000, every);
     const double sum = i.spectrum[0] + i.spectrum[1] + i.spectrum[2] + i.spectrum[3];
-    std::printf("[ spectrum ] %-28s %+.3e %+.3e %+.3e %+.3e (sum %.1e)\n", what.c_str(),
+    std::printf("[ spectrum ] %-36s %+.3e %+.3e %+.3e %+.3e (sum %.1e)\n", what.c_str(),
                 i.spectrum[0], i.spectrum[1], i.spectrum[2], i.spectrum[3], sum);
     EXPECT_LE(std::fabs(sum), spectrum_sum_tolerance) << what;
     if (!chaotic) return;
@@ -107,68 +114,81 @@ TEST(Chaos, SpectraOfVolumePreservingMapsSumToZeroInPlusMinusPairs) {
   };
   for (const MapEntry& m : catalogue()) {
     if (m.name == "case2-hky" || m.name == "case3") continue;
-    check(*make_model(m.name, param_values(m.facts->example)), Phase{0.3, 0.2, 0.1, 0.25},
+    check(m.name, param_values(m.facts->example), Phase{0.3, 0.2, 0.1, 0.25}, 1,
           std::string(m.name), false);
   }
-  check(*make_model("flow", {{"A", 0.0}, {"B", 0.0}, {"alpha", 0.25}, {"beta", 0.25},
-                             {"delta", 3.0}, {"h", 0.05}}),
-        Phase{0.5, 0.5, 0.3, 0.6}, "flow, delta = 12 alpha", true);
+  // Orthonormalized every step, or every 10 (Benettin's re-orthonormalization every k steps).
+  for (long long every : {1LL, 10LL})
+    check("flow", chaotic_flow, Phase{0.5, 0.5, 0.3, 0.6}, every,
+          "flow, delta = 12 alpha, every " + std::to_string(every), true);
 }
 
-// Two orbits in the lanes of an SSE2 batch (the ISA of every x86-64 build) give, step by step,
-// the scalar path's bits: state, the nine deviations, the sums and the GALIs.
-TEST(Chaos, BatchLanesGiveTheScalarBits) {
+// The chaos model steps the state by the map's own step on Dual values, whose values never read
+// a derivative: its orbit is the plain map's, bit for bit.
+TEST(Chaos, ChaosModelOrbitIsThePlainMapsBitForBit) {
+  for (const MapEntry& m : catalogue()) {
+    const auto params = param_values(m.facts->example);
+    const auto plain = make_model(m.name, params);
+    const Phase x{0.3, 0.2, 0.1, 0.25};
+    RunPlan plan;
+    plan.total = plan.last = 3000;
+    Ensemble a = plain->start(std::span(&x, 1), Start::taylor, 1e8);
+    plain->advance(a, plan, Execution{});
+    for (bool spectrum : {false, true}) {
+      const auto chaos = make_model(m.name, params, ChaosOptions{spectrum, 7});
+      Ensemble b = chaos->start(std::span(&x, 1), Start::taylor, 1e8);
+      chaos->advance(b, plan, Execution{});
+      for (std::size_t k = 0; k < plain->state_names().size(); ++k)
+        EXPECT_EQ(std::bit_cast<std::uint64_t>(a.state[k][0]),
+                  std::bit_cast<std::uint64_t>(b.state[k][0]))
+            << m.name << " component " << k << (spectrum ? " (nine deviations)" : "");
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(a.invariant_max_drift[0][0]),
+                std::bit_cast<std::uint64_t>(b.invariant_max_drift[0][0]))
+          << m.name;
+    }
+  }
+}
+
+// ops::log against the C library's over 40 binades, subnormals and the special values; and an
+// SSE2 batch (every x86-64 build has it) gives each lane the scalar's bits.
+constexpr double log_tolerance_ulp = 2;
+
+TEST(Chaos, LogIsWithinTwoUlpAndTheSameInEveryLane) {
   using B = xsimd::batch<double, xsimd::sse2>;
-  kernels::for_each_map([](auto map) {
-    using Map = decltype(map);
-    const auto values = resolve_params(Map::name, Map::params, param_values(Map::facts.example));
-    const auto c = Map::coefficients(values);
-    using State = typename Map::template State<double>;
-    constexpr std::size_t S = std::tuple_size_v<State>;
-    const OrbitChaos start(S);
-    std::array<State, 2> s = {Map::from_phase_space(c, Phase{0.3, 0.2, 0.1, 0.25}, Start::taylor),
-                              Map::from_phase_space(c, Phase{-0.4, 0.1, 0.3, -0.2}, Start::taylor)};
-    std::array<std::array<State, 9>, 2> w;
-    std::array<ChaosSums<double>, 2> sums;
-    std::array<std::array<double, 4>, 2> logs{};
-    typename Map::template State<B> sb;
-    std::array<typename Map::template State<B>, 9> wb;
-    ChaosSums<B> sums_b;
-    std::array<B, 4> logs_b;
-    logs_b.fill(B(0.0));
-    const auto pack = [](double a, double b) {
-      alignas(16) const double two[2] = {a, b};
-      return B::load_aligned(two);
-    };
-    for (std::size_t k = 0; k < S; ++k) {
-      sb[k] = pack(s[0][k], s[1][k]);
-      for (std::size_t j = 0; j < 9; ++j) {
-        w[0][j][k] = w[1][j][k] = start.deviations[j][k];
-        wb[j][k] = B(start.deviations[j][k]);
+  std::uint64_t x = 0x9E3779B97F4A7C15ull;
+  double worst = 0;
+  const auto check = [&](double a, double b) {
+    alignas(16) const double two[2] = {a, b};
+    const auto lanes = ops::lanes_of(ops::log(B::load_aligned(two)));
+    for (int l = 0; l < 2; ++l) {
+      const double v = two[l], mine = ops::log(v), libc = std::log(v);
+      ASSERT_EQ(std::bit_cast<std::uint64_t>(lanes[static_cast<std::size_t>(l)]),
+                std::bit_cast<std::uint64_t>(mine))
+          << "log(" << v << "): batch lane differs from the scalar";
+      if (std::isnan(libc)) {
+        ASSERT_TRUE(std::isnan(mine)) << v;
+      } else if (std::isinf(libc) || libc == 0) {
+        ASSERT_EQ(mine, libc) << v;
+      } else {
+        const double ulps = std::fabs(mine - libc) / (std::nextafter(std::fabs(libc), HUGE_VAL) -
+                                                      std::fabs(libc));
+        worst = std::max(worst, ulps);
+        ASSERT_LE(ulps, log_tolerance_ulp) << "log(" << v << ") = " << mine << ", libc " << libc;
       }
     }
-    for (int n = 0; n < 200; ++n) {
-      for (int o = 0; o < 2; ++o) chaos_step<Map>(c, s[o], w[o], sums[o], logs[o]);
-      chaos_step<Map>(c, sb, wb, sums_b, logs_b);
-    }
-    const auto same = [](B batch, double lane0, double lane1) {
-      const auto l = ops::lanes_of(batch);
-      return std::bit_cast<std::uint64_t>(l[0]) == std::bit_cast<std::uint64_t>(lane0) &&
-             std::bit_cast<std::uint64_t>(l[1]) == std::bit_cast<std::uint64_t>(lane1);
-    };
-    for (std::size_t k = 0; k < S; ++k) {
-      EXPECT_TRUE(same(sb[k], s[0][k], s[1][k])) << Map::name;
-      for (std::size_t j = 0; j < 9; ++j)
-        EXPECT_TRUE(same(wb[j][k], w[0][j][k], w[1][j][k])) << Map::name << " deviation " << j;
-    }
-    EXPECT_TRUE(same(sums_b.log_growth, sums[0].log_growth, sums[1].log_growth)) << Map::name;
-    EXPECT_TRUE(same(sums_b.fli, sums[0].fli, sums[1].fli)) << Map::name;
-    EXPECT_TRUE(same(sums_b.megno_sum, sums[0].megno_sum, sums[1].megno_sum)) << Map::name;
-    for (std::size_t i = 0; i < 4; ++i)
-      EXPECT_TRUE(same(logs_b[i], logs[0][i], logs[1][i])) << Map::name << " lambda " << i;
-    for (std::size_t k : {2, 4})
-      EXPECT_TRUE(same(gali(wb, k), gali(w[0], k), gali(w[1], k))) << Map::name << " GALI " << k;
-  });
+  };
+  for (int i = 0; i < 200000; ++i) {
+    x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+    const double m = 1 + static_cast<double>(x >> 11) * 0x1p-53;          // [1, 2)
+    const int e = static_cast<int>(x % 80) - 40;
+    check(std::ldexp(m, e), 1 + (m - 1) * 1e-6 * (i % 2 ? 1 : -1));    // also next to 1
+  }
+  check(0.0, -0.0);
+  check(-1.0, std::numeric_limits<double>::infinity());
+  check(std::nan(""), 5e-324);
+  check(std::numeric_limits<double>::max(), std::numeric_limits<double>::min());
+  check(1.0, 2.0);
+  std::printf("[ log ] worst error against the C library's log: %.2f ulp\n", worst);
 }
 
 }  // namespace

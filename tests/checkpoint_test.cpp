@@ -1,7 +1,8 @@
 // Checkpoint and resume, through the qmaps binary: a run interrupted by SIGINT or SIGTERM at a
 // random step writes <output>.ckpt, exits with ExitCode::interrupted and leaves no file under the
 // final name; resumed (with another thread count and ISA), it writes datasets identical byte for
-// byte to an uninterrupted run's. Periodic checkpoints change nothing; bad checkpoints are errors.
+// byte to an uninterrupted run's (chaos indicators and trajectories included). Periodic
+// checkpoints change nothing; bad checkpoints are errors.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -65,11 +66,13 @@ std::map<std::string, std::vector<char>> datasets(const std::string& path) {
   return ::testing::AssertionSuccess() << x.size() << " datasets";
 }
 
-// The Suris preset with its observers, 10000 orbits × 3000 steps, some of them escaping.
+// The Suris preset with its observers, chaos indicators and a trajectory, 10000 orbits × 3000
+// steps, some of them escaping.
 std::string config_text(const std::string& output) {
   std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/suris.toml");
   text = with_line(text, "orbits = ", "orbits = 10000");
   text = with_line(text, "steps = ", "steps = 3000\nescape_bound = 0.9");
+  text += "\n[chaos]\n\n[[trajectory]]\nname = \"some\"\norbits = [3, 1, 4159]\nevery = 100\n";
   return with_line(text, "file = ", "file = \"" + output + "\"");
 }
 

@@ -385,6 +385,74 @@ TEST_F(Cli, OrbitChaosColumnsFollowTheSameOrbit) {
   EXPECT_NEAR(megno, 2.0, 0.2);  // 2 − O(ln(n)/n): 1.47 after 2000 steps, 1.87 after 20000
 }
 
+// A run's [chaos] and [[trajectory]]: a trajectory's rows are `qmaps orbit --chaos`'s for the
+// same orbit, value for value (every path reproduces the scalar reference), /chaos holds the last
+// row's indicators, and `qmaps info` summarises them.
+TEST_F(Cli, ChaosAndTrajectoriesAgreeWithTheOrbitCommand) {
+  const std::string extra =
+      "\n[chaos]\nspectrum = true\n\n[[trajectory]]\nname = \"two\"\norbits = [5, 2]\n"
+      "every = 10\n";
+  const Result r = run_config(config + extra);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto root = h5::File::open_read(output).root();
+  const auto initial = root.open_group("initial");
+  char ic[256];
+  std::snprintf(ic, sizeof ic, "%.17g,%.17g,%.17g,%.17g", initial.read_doubles("q1", 100)[5],
+                initial.read_doubles("q2", 100)[5], initial.read_doubles("p1", 100)[5],
+                initial.read_doubles("p2", 100)[5]);
+  auto args = orbit_args(ic, "50", "10", "taylor");
+  args.push_back("--chaos");
+  const Result orbit = run(args, dir);
+  ASSERT_EQ(orbit.status, 0) << orbit.err;
+  const auto rows = csv_rows(orbit.out);
+  ASSERT_EQ(rows.size(), 7u);  // the header, steps 0, 10, …, 50
+  const auto t = root.open_group("trajectories").open_group("two");
+  const auto orbits = t.read_int64("orbit", 12), steps = t.read_int64("step", 12);
+  for (std::size_t k = 0; k < 6; ++k) {
+    EXPECT_EQ(orbits[k], 5);
+    EXPECT_EQ(orbits[6 + k], 2);
+    EXPECT_EQ(steps[k], static_cast<std::int64_t>(10 * k));
+  }
+  for (std::size_t j = 1; j < rows[0].size(); ++j) {  // every column but n
+    const auto values = t.read_doubles(rows[0][j], 12);
+    for (std::size_t k = 0; k < 6; ++k) {
+      char text[64];
+      std::snprintf(text, sizeof text, "%.17g", values[k]);
+      EXPECT_EQ(text, rows[k + 1][j]) << rows[0][j] << " at step " << 10 * k;
+    }
+  }
+  const auto chaos = root.open_group("chaos");
+  for (const std::string name : {"lyapunov", "megno", "lyapunov_1", "gali_2"}) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.17g", chaos.read_doubles(name, 100)[5]);
+    const auto column = std::find(rows[0].begin(), rows[0].end(), name) - rows[0].begin();
+    EXPECT_EQ(text, rows[6][static_cast<std::size_t>(column)]) << name;
+  }
+  const Result info = run({"info", output}, dir);
+  ASSERT_EQ(info.status, 0) << info.err;
+  for (const std::string part : {"chaos:      ", " regular (MEGNO above / not above 3), 0 escaped",
+                                 "  megno", "  log10_gali_2", "median "})
+    EXPECT_TRUE(Contains(info.out, part)) << info.out;
+}
+
+// Bad [chaos] and [[trajectory]] keys are usage errors naming the key, before anything runs.
+TEST_F(Cli, BadChaosAndTrajectoryKeysAreNamed) {
+  expect_rejected(run_config(config + "\n[chaos]\northonormalize_every = 0\n"), 2,
+                  {"[chaos] orthonormalize_every must be 1 to 1000 (got 0)"});
+  expect_rejected(run_config(config + "\n[chaos]\nmegno_threshold = -1\n"), 2,
+                  {"[chaos] megno_threshold must be a positive number"});
+  expect_rejected(run_config(config + "\n[chaos]\nspectrum = 3\n"), 2, {"[chaos] spectrum"});
+  const std::string t = "\n[[trajectory]]\nname = \"a\"\n";
+  expect_rejected(run_config(config + t + "orbits = [1, 100]\n"), 2,
+                  {"[trajectory[0]] orbits: orbit 100 is not in the ensemble's 0 to 99"});
+  expect_rejected(run_config(config + t + "orbits = [1]\nfirst = 3\n"), 2,
+                  {"give either orbits = [i, j, ...] or first = N"});
+  expect_rejected(run_config(config + t + "first = 3\nevery = 0\n"), 2,
+                  {"[trajectory[0]] every must be >= 1"});
+  expect_rejected(run_config(config + t + "first = 100\n", {"--set", "run.steps=10000000"}), 2,
+                  {"rows; at most 67108864"});
+}
+
 // H_cont and the case's second integral of the continuous system at the phase point: on a map
 // they oscillate at O(h²) while the map's own invariants hold to round-off; on the flow they are
 // its own invariants, the same bits.

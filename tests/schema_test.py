@@ -34,8 +34,8 @@ def sizes(f, gpath):
     """The values of the symbols of the page's shapes in the file's group `gpath`."""
     group = f[gpath]
     out = {"N_o": int(f.attrs["orbits"])}
-    if "orbit" in group:
-        out["N_p"] = group["orbit"].shape[0]
+    if "orbit" in group:  # a section's points, or a trajectory's rows
+        out["N_p"] = out["N_r"] = group["orbit"].shape[0]
     counts = group["counts"] if "counts" in group else group.get("density")
     if counts is not None:
         out["nx"] = counts.shape[0]

@@ -13,7 +13,7 @@ PRESET = SOURCE_DIR / "ensembles" / "presets" / "suris.toml"
 TOOLS = SOURCE_DIR / "tools"
 
 # Added to the preset (a 2D density, a section capped at 2 points per orbit, the image): a 1D
-# density and a section that keeps every crossing.
+# density, a section that keeps every crossing, the chaos indicators and a trajectory.
 EXTRA_OBSERVERS = """
 [[histogram]]
 name = "p1"
@@ -33,6 +33,14 @@ cap = 1000
 x_range = [-1.0, 1.0]
 y_range = [-1.0, 1.0]
 bins = [64, 64]
+
+[chaos]
+spectrum = true
+
+[[trajectory]]
+name = "first"
+first = 3
+every = 50
 """
 
 

@@ -229,6 +229,11 @@ bool Config::has(std::string_view section, std::string_view key) const {
   return doc_->find(*this, section, key) != nullptr;
 }
 
+bool Config::has_section(std::string_view section) const {
+  used_sections_.insert(std::string(section));
+  return doc_->section_table(section) != nullptr;
+}
+
 std::string Config::where(std::string_view section, std::string_view key) const {
   const std::string name = dotted(section, key);
   if (overridden_.count(name)) return "--set " + name;

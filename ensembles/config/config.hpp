@@ -33,6 +33,7 @@ class Config {
   void set(std::string_view assignment);
 
   bool has(std::string_view section, std::string_view key) const;
+  bool has_section(std::string_view section) const;  // a [section] table, perhaps empty
   std::size_t entries(std::string_view array) const;  // tables in [[array]] (0 when absent)
   double number(std::string_view section, std::string_view key) const;
   double number_or(std::string_view section, std::string_view key, double fallback) const;

@@ -164,4 +164,51 @@ std::optional<InvariantImage> invariant_image_from_config(const Config& config,
                                                      axis(config, s, y, "y_range", bins[1])})};
 }
 
+std::vector<Trajectory> trajectories_from_config(const Config& config, const Model& model,
+                                                 std::size_t orbits, long long steps) {
+  // At most this many rows in all: a trajectory is for looking at orbits, not for storing runs.
+  constexpr double most_rows = 1 << 26;
+  std::vector<Trajectory> out;
+  std::set<std::string> names;
+  double rows = 0;
+  for (std::size_t i = 0; i < config.entries("trajectory"); ++i) {
+    const std::string s = "trajectory[" + std::to_string(i) + "]";
+    Trajectory t;
+    t.name = unique_name(config, s, names);
+    if (config.has(s, "orbits") == config.has(s, "first"))
+      throw usage_error(config.where(s) + ": give either orbits = [i, j, ...] or first = N");
+    if (config.has(s, "first")) {
+      const long long first = config.integer(s, "first");
+      if (first < 1 || static_cast<std::size_t>(first) > orbits)
+        throw usage_error(config.where(s, "first") + " must be 1 to the " +
+                          std::to_string(orbits) + " orbits of the ensemble (got " +
+                          std::to_string(first) + ")");
+      for (long long k = 0; k < first; ++k) t.orbits.push_back(static_cast<std::size_t>(k));
+    } else {
+      std::set<std::int64_t> seen;
+      for (const std::int64_t k : config.range_or_integer(s, "orbits")) {
+        if (k < 0 || static_cast<std::size_t>(k) >= orbits)
+          throw usage_error(config.where(s, "orbits") + ": orbit " + std::to_string(k) +
+                            " is not in the ensemble's 0 to " + std::to_string(orbits - 1));
+        if (!seen.insert(k).second)
+          throw usage_error(config.where(s, "orbits") + ": orbit " + std::to_string(k) +
+                            " is listed twice");
+        t.orbits.push_back(static_cast<std::size_t>(k));
+      }
+      if (t.orbits.empty()) throw usage_error(config.where(s, "orbits") + " lists no orbit");
+    }
+    t.every = config.integer_or(s, "every", 1);
+    if (t.every < 1) throw usage_error(config.where(s, "every") + " must be >= 1");
+    t.columns = trajectory_columns(model);
+    rows += t.rows(steps);
+    if (rows > most_rows)
+      throw usage_error(config.where(s, "every") + ": the trajectories would hold " +
+                        std::to_string(static_cast<long long>(rows)) + " rows; at most " +
+                        std::to_string(static_cast<long long>(most_rows)) +
+                        " (record fewer orbits or fewer steps)");
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
 }  // namespace qmaps

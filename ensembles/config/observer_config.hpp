@@ -1,6 +1,6 @@
 #pragma once
-// The observers of a run from its configuration: [[histogram]], [[section]] and
-// [invariant_image] (docs/configuration in README.md); every error names the key and its line.
+// The observers of a run from its configuration: [[histogram]], [[section]], [invariant_image]
+// and [[trajectory]] (docs/configuration in README.md); every error names the key and its line.
 #include <optional>
 #include <string>
 
@@ -8,6 +8,7 @@
 #include "core/observers/histogram.hpp"
 #include "core/model.hpp"
 #include "core/observers/observers.hpp"
+#include "ensembles/io/trajectories.hpp"
 
 namespace qmaps {
 
@@ -20,5 +21,8 @@ struct InvariantImage {
 Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits,
                                 long long steps);
 std::optional<InvariantImage> invariant_image_from_config(const Config& config, const Model& model);
+// [[trajectory]]: which orbits, every how many steps (their rows are recorded later).
+std::vector<Trajectory> trajectories_from_config(const Config& config, const Model& model,
+                                                 std::size_t orbits, long long steps);
 
 }  // namespace qmaps

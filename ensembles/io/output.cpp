@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <cstdint>
 #include <vector>
 
 #include "core/version.hpp"
@@ -87,6 +88,77 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
     g.attr("mode", std::string(s.linear ? "linear" : "iterate"));
     g.attr("cap", s.cap);
     g.attr("crossings", s.density.samples());
+  }
+}
+
+// The value at fraction f of the sorted values (nearest rank); NaN for none.
+double quantile(std::vector<double> values, double f) {
+  if (values.empty()) return std::nan("");
+  const auto k = static_cast<std::size_t>(f * static_cast<double>(values.size() - 1) + 0.5);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+// /chaos (docs/chaos.md): each indicator of every orbit; each one's histogram and quartiles over
+// the orbits that stayed bounded (log10 of the GALIs); the orbits' classes by MEGNO.
+void write_chaos(const h5::Group& root, const RunRecord& run) {
+  const auto names = run.model.indicator_names();
+  if (names.empty()) return;
+  const Ensemble& e = run.ensemble;
+  const std::size_t n = e.orbits;
+  std::vector<std::vector<double>> values(names.size(), std::vector<double>(n));
+  const long long count = static_cast<long long>(n);
+#pragma omp parallel for schedule(static)
+  for (long long i = 0; i < count; ++i) {
+    const auto v = run.model.indicators(e, static_cast<std::size_t>(i));
+    for (std::size_t k = 0; k < v.size(); ++k) values[k][static_cast<std::size_t>(i)] = v[k];
+  }
+  const std::size_t megno = 2;  // indicator_names(): lyapunov, fli, megno, …
+  std::vector<std::uint8_t> classes(n);
+  std::int64_t tally[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < n; ++i) {
+    classes[i] = e.escape_step[i] >= 0                                  ? 2
+                 : values[megno][i] > run.chaos.megno_threshold ? 1
+                                                                        : 0;
+    ++tally[classes[i]];
+  }
+  const auto chaos = root.create_group("chaos");
+  chaos.attr("megno_threshold", run.chaos.megno_threshold);
+  chaos.attr("regular", tally[0]);
+  chaos.attr("chaotic", tally[1]);
+  chaos.attr("escaped", tally[2]);
+  chaos.attr("chaotic_fraction", tally[0] + tally[1] > 0
+                                     ? static_cast<double>(tally[1]) /
+                                           static_cast<double>(tally[0] + tally[1])
+                                     : std::nan(""));
+  chaos.attr("class_codes", std::string("0 regular, 1 chaotic (megno > megno_threshold), 2 escaped"));
+  chaos.attr("unit", std::string("Lyapunov exponents per step"));
+  if (run.per_orbit) {
+    for (std::size_t k = 0; k < names.size(); ++k) chaos.write(names[k], values[k]);
+    chaos.write("class", classes);
+  }
+  const auto histograms = chaos.create_group("histograms");
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const bool logarithmic = names[k].starts_with("gali");
+    std::vector<double> bounded;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double v = logarithmic ? std::log10(values[k][i]) : values[k][i];
+      if (classes[i] != 2 && std::isfinite(v)) bounded.push_back(v);
+    }
+    double lo = 0, hi = 1;
+    if (!bounded.empty()) {
+      const auto [min, max] = std::minmax_element(bounded.begin(), bounded.end());
+      lo = *min;
+      hi = *max > *min ? std::nextafter(*max, HUGE_VAL) : *min + 1;
+    }
+    const std::string name = logarithmic ? "log10_" + names[k] : names[k];
+    Histogram h(name, {Axis{name, lo, hi, run.chaos.bins}});
+    for (double v : bounded) h.add(&v);
+    const auto g = histograms.create_group(name);
+    write_histogram(g, h, "counts");
+    g.attr("q1", quantile(bounded, 0.25));
+    g.attr("median", quantile(bounded, 0.5));
+    g.attr("q3", quantile(bounded, 0.75));
   }
 }
 
@@ -249,6 +321,8 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     write_histogram(invariants.create_group("image"), image, "counts");
   }
   if (run.observers) write_observers(root, *run.observers, run.plan.stride);
+  write_chaos(root, run);
+  if (run.trajectories) write_trajectories(root, *run.trajectories);
 
   if (!run.per_orbit) return;
   const auto escape = root.create_group("escape");

@@ -11,10 +11,18 @@
 #include "core/observers/observers.hpp"
 #include "core/run_plan.hpp"
 #include "ensembles/config/observer_config.hpp"
+#include "ensembles/io/trajectories.hpp"
 
 namespace qmaps {
 
 inline constexpr std::int64_t schema_version = 1;
+
+// How /chaos reports the indicators (docs/chaos.md): an orbit is chaotic where its MEGNO ⟨Y⟩
+// exceeds the threshold; each indicator's histogram has `bins` bins over its range.
+struct ChaosReport {
+  double megno_threshold = 3;
+  long long bins = 100;
+};
 
 // Everything of a run but /initial, which is written first, by parts (create_phase, write_phase_part),
 // as the orbits start.
@@ -34,6 +42,8 @@ struct RunRecord {
   const InvariantImage* image = nullptr;
   std::string ensemble_description{};  // what the initial conditions are, in one line
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
+  ChaosReport chaos{};
+  const std::vector<Trajectory>* trajectories = nullptr;
 };
 
 // One session of a run: its steps, path, threads, times and command line.

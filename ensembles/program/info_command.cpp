@@ -1,6 +1,6 @@
 // `qmaps info FILE.h5`: what an earlier run holds — map, parameters, ensemble, orbits, steps,
-// escapes by reason, each invariant's worst and median relative drift, and its histograms and
-// sections with their counts.
+// escapes by reason, each invariant's worst and median relative drift, its histograms and
+// sections with their counts, and its chaos indicators' classes and quartiles.
 #include <cstdio>
 #include <map>
 #include <ostream>
@@ -112,6 +112,20 @@ int describe(const std::string& path, std::ostream& out) {
           << s.attr_string("mode") << "), " << s.attr_int64("crossings") << " crossings, "
           << points_in(s) << " points kept (cap " << s.attr_int64("cap") << "); "
           << histogram_text(s, "density") << '\n';
+    }
+  }
+  if (root.has("chaos")) {
+    const auto chaos = root.open_group("chaos");
+    const auto regular = chaos.attr_int64("regular"), chaotic = chaos.attr_int64("chaotic");
+    out << "chaos:      " << chaotic << " chaotic, " << regular << " regular (MEGNO above / not above "
+        << number_text(chaos.attr_double("megno_threshold")) << "), " << chaos.attr_int64("escaped")
+        << " escaped; chaotic fraction " << g(chaos.attr_double("chaotic_fraction")) << '\n';
+    const auto histograms = chaos.open_group("histograms");
+    for (const auto& name : histograms.members()) {
+      const auto h = histograms.open_group(name);
+      out << "  " << name << std::string(name.size() < 14 ? 14 - name.size() : 1, ' ')
+          << "median " << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1"))
+          << " to " << g(h.attr_double("q3")) << '\n';
     }
   }
   return 0;

@@ -48,7 +48,10 @@ void row(std::ostream& out, const Model& model, const Ensemble& e,
 }  // namespace
 
 int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
-  const auto model = make_model(o.map, parse_params(o.sets));
+  // With --chaos the map advances its chaos record with the state (core/tangent_map.hpp): the
+  // same steps, bit for bit, and the indicators of the orbit so far on every row.
+  const auto model = o.chaos ? make_model(o.map, parse_params(o.sets), ChaosOptions{true, 10})
+                             : make_model(o.map, parse_params(o.sets));
   Phase ic = parse_ic(o.ic);
   if (o.energy) {  // p2 from H_cont = E, with the sign --ic gives it
     const double rest = model->continuous().energy({ic.q1, ic.q2, ic.p1, 0.0});
@@ -69,31 +72,17 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   // The continuous system's H and its case's second integral at the phase point: the flow's
   // invariants (kernels/flow.hpp) for the map's potential, so that the map's oscillating energy
   // error shows beside its own exact invariants.
-  const Potential v = model->continuous();
-  const auto continuous =
-      make_model("flow", {{"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta},
-                          {"delta", v.delta}, {"h", 1.0}});
+  const auto continuous = continuous_model(*model);
   out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
   for (const auto& name : model->invariant_names()) out << ',' << name;
   for (const auto& name : continuous->invariant_names()) out << ',' << name << "_cont";
-  if (o.chaos) out << ",lyapunov,fli,megno,lyapunov_1,lyapunov_2,lyapunov_3,lyapunov_4,gali_2,gali_4";
+  for (const auto& name : model->indicator_names()) out << ',' << name;
   out << '\n';
-  // The chaos indicators follow the orbit's own state with the tangent map (the same values,
-  // bit for bit, as the rows' steps); at n = 0 the exponents and ⟨Y⟩ are not yet defined (NaN).
-  std::vector<double> state(model->state_names().size());
-  for (std::size_t k = 0; k < state.size(); ++k) state[k] = e.state[k][0];
-  OrbitChaos chaos(state.size());
+  // At n = 0 the exponents and ⟨Y⟩ are not yet defined (0/0: NaN).
   const auto more_columns = [&] {
     const Phase x = model->phase(e, 0);
     std::vector<double> values = continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
-    if (!o.chaos) return values;
-    const auto& sums = chaos.sums;
-    const bool stepped = sums.steps > 0;
-    const double nan = std::nan("");
-    values.insert(values.end(), {stepped ? sums.lyapunov() : nan, sums.fli,
-                                 stepped ? sums.megno() : nan});
-    for (std::size_t i = 0; i < 4; ++i) values.push_back(stepped ? chaos.lyapunov(i) : nan);
-    values.insert(values.end(), {chaos.gali[0], chaos.gali[1]});
+    for (double v : model->indicators(e, 0)) values.push_back(v);
     return values;
   };
   RunPlan plan;
@@ -112,7 +101,6 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
     model->advance(e, plan, Execution{});
-    if (o.chaos) model->advance_chaos(state, chaos, plan.last - n);
     n = plan.last;
   }
   return 0;

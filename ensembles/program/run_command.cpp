@@ -17,6 +17,7 @@
 #include "ensembles/io/checkpoint.hpp"
 #include "ensembles/program/commands.hpp"
 #include "core/memory_limit.hpp"
+#include "core/tangent_map.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/interrupt.hpp"
 #include "ensembles/io/output.hpp"
@@ -26,24 +27,53 @@
 namespace qmaps {
 namespace {
 
-// The map of [map]; its errors say where in the config the map is.
+// [chaos], if the run records chaos indicators (docs/chaos.md).
+std::optional<ChaosOptions> chaos_options_of(const Config& config) {
+  if (!config.has_section("chaos")) return std::nullopt;
+  ChaosOptions o;
+  o.spectrum = config.boolean_or("chaos", "spectrum", false);
+  o.every = config.integer_or("chaos", "orthonormalize_every", o.every);
+  if (o.every < 1 || o.every > max_orthonormalize_every)
+    throw usage_error(config.where("chaos", "orthonormalize_every") + " must be 1 to " +
+                      std::to_string(max_orthonormalize_every) + " (got " +
+                      std::to_string(o.every) + ")");
+  return o;
+}
+
+// How the output classifies and histograms the indicators.
+ChaosReport chaos_report_of(const Config& config) {
+  ChaosReport report;
+  report.megno_threshold = config.number_or("chaos", "megno_threshold", report.megno_threshold);
+  if (!(report.megno_threshold > 0 && report.megno_threshold < 1e300))
+    throw usage_error(config.where("chaos", "megno_threshold") + " must be a positive number");
+  report.bins = config.integer_or("chaos", "bins", report.bins);
+  if (report.bins < 1 || report.bins > (1 << 20))
+    throw usage_error(config.where("chaos", "bins") + " must be 1 to 1048576");
+  return report;
+}
+
+// The map of [map], with its chaos record if [chaos] asks for one; its errors say where in the
+// config the map is.
 std::unique_ptr<Model> map_of(const Config& config) {
   const std::string name = config.string("map", "name");
   ParamValues params;
   for (const auto& key : config.keys("map"))
     if (key != "name") params[key] = config.number("map", key);
+  const auto chaos = chaos_options_of(config);
   try {
-    return make_model(name, params);
+    return chaos ? make_model(name, params, *chaos) : make_model(name, params);
   } catch (const Error& e) {
     throw Error(e.code(), config.where("map") + ": " + e.what());
   }
 }
 
-// The memory a run holds per orbit: the state, the escape record (step, reason), the invariant
-// tracking (initial value, max drift); the observers count theirs (Observers::bytes).
+// The memory a run holds per orbit: the state (with its chaos record), the escape record (step,
+// reason), the invariant tracking (initial value, max drift), the chaos indicators computed for
+// the output; the observers count theirs (Observers::bytes).
 double bytes_per_orbit(const Model& model) {
   return static_cast<double>(8 * model.state_names().size() + 9 +
-                             16 * model.invariant_names().size());
+                             16 * model.invariant_names().size() +
+                             8 * model.indicator_names().size());
 }
 
 // Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits and
@@ -63,7 +93,8 @@ void check_memory(const Config& config, const Model& model, std::size_t orbits,
   std::string message = config.where("ensemble", key) + text;
   if (for_observers > 0) {
     std::snprintf(text, sizeof text,
-                  ", and their histograms (a copy per thread) and section points %.3g GiB",
+                  ", and their histograms (a copy per thread), section points and trajectories "
+                  "%.3g GiB",
                   for_observers / (1 << 30));
     message += text;
   }
@@ -83,6 +114,8 @@ struct Run {
   int deflate = 0;  // [output] compression: the gzip level, 0 for none
   Observers observers;
   std::optional<InvariantImage> image;
+  ChaosReport chaos;
+  std::vector<Trajectory> trajectories;
   std::string path;  // the output file
   std::string kind, description;  // the ensemble's kind and its one-line description
   std::uint64_t seed = 0;
@@ -126,8 +159,12 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
   r.observers = observers_from_config(config, *r.model, orbits, r.plan.total);
-  check_memory(config, *r.model, orbits, r.observers.bytes(r.x.threads));
+  r.trajectories = trajectories_from_config(config, *r.model, orbits, r.plan.total);
+  double for_trajectories = 0;
+  for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
+  check_memory(config, *r.model, orbits, r.observers.bytes(r.x.threads) + for_trajectories);
   r.image = invariant_image_from_config(config, *r.model);
+  r.chaos = chaos_report_of(config);
 
   r.path = config.string("output", "file");
   // Every name the run derives from the output's must be legal before the run starts: the
@@ -169,7 +206,8 @@ RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                    r.config_text, r.config_resolved, r.command_line, r.started, now,
                    r.sessions + session_line(session_first, e.step, r.x, session_started, now,
                                              session_command),
-                   &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected};
+                   &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected,
+                   r.chaos, &r.trajectories};
 }
 
 // Runs `write`, which writes the file at `path`; an io failure there names the file and, where
@@ -315,6 +353,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
                                     std::to_string(r.plan.total) + ")");
     restore_observers(root, r.observers);
+    read_trajectories(root, r.trajectories);
     if (r.per_orbit) copy_phase(root.open_group("initial"), file.root().create_group("initial"), r.orbits);
     return execute(r, e, output, file, interrupt, options, log);
   } catch (const Error& e) {
@@ -361,6 +400,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
         if (initial) write_phase_part(*initial, first, points);
       },
       orbits_per_part);
+  for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
   return execute(r, e, output, file, interrupt, options, log);
 }
 

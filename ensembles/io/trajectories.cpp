@@ -1,0 +1,106 @@
+#include "ensembles/io/trajectories.hpp"
+
+#include <array>
+
+#include "core/error.hpp"
+#include "core/execution.hpp"
+#include "kernels/catalogue.hpp"
+
+namespace qmaps {
+
+std::vector<std::string> trajectory_columns(const Model& model) {
+  std::vector<std::string> out = {"t", "q1", "q2", "p1", "p2"};
+  for (const auto& name : model.invariant_names()) out.push_back(name);
+  const auto continuous = continuous_model(model);
+  for (const auto& name : continuous->invariant_names()) out.push_back(name + "_cont");
+  for (const auto& name : model.indicator_names()) out.push_back(name);
+  return out;
+}
+
+void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan) {
+  const auto continuous = continuous_model(model);
+  t.columns = trajectory_columns(model);
+  t.orbit.clear();
+  t.step.clear();
+  t.values.assign(t.columns.size(), {});
+  // Copies of the orbits, advanced together on the scalar reference path.
+  Ensemble copy = model.ensemble(t.orbits.size());
+  for (std::size_t j = 0; j < t.orbits.size(); ++j) {
+    const std::size_t i = t.orbits[j];
+    for (std::size_t k = 0; k < copy.state.size(); ++k) copy.state[k][j] = e.state[k][i];
+    copy.escape_step[j] = e.escape_step[i];
+    copy.escape_reason[j] = e.escape_reason[i];
+    for (std::size_t k = 0; k < copy.invariant_initial.size(); ++k) {
+      copy.invariant_initial[k][j] = e.invariant_initial[k][i];
+      copy.invariant_max_drift[k][j] = e.invariant_max_drift[k][i];
+    }
+  }
+  copy.fill_padding();
+  copy.step = e.step;
+  // Rows by step first; reordered orbit by orbit at the end.
+  std::vector<std::vector<std::size_t>> rows_of(t.orbits.size());
+  RunPlan segment = plan;
+  segment.track_invariants = false;
+  for (long long n = e.step;;) {
+    for (std::size_t j = 0; j < t.orbits.size(); ++j) {
+      if (copy.escape_step[j] >= 0) continue;  // rows stop before the escape
+      rows_of[j].push_back(t.orbit.size());
+      t.orbit.push_back(static_cast<std::int64_t>(t.orbits[j]));
+      t.step.push_back(n);
+      const Phase x = model.phase(copy, j);
+      std::vector<double> row = {model.time(copy, j), x.q1, x.q2, x.p1, x.p2};
+      for (double v : model.invariants(copy, j)) row.push_back(v);
+      for (double v : continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2}))
+        row.push_back(v);
+      for (double v : model.indicators(copy, j)) row.push_back(v);
+      for (std::size_t k = 0; k < row.size(); ++k) t.values[k].push_back(row[k]);
+    }
+    if (n >= plan.total) break;
+    segment.first = n;
+    segment.last = std::min(plan.total, n + t.every);
+    model.advance(copy, segment, Execution{});
+    n = segment.last;
+  }
+  // Orbit by orbit, each in step order.
+  std::vector<std::size_t> order;
+  for (const auto& rows : rows_of) order.insert(order.end(), rows.begin(), rows.end());
+  const auto reorder = [&](auto& column) {
+    auto sorted = column;
+    for (std::size_t r = 0; r < order.size(); ++r) sorted[r] = column[order[r]];
+    column = std::move(sorted);
+  };
+  reorder(t.orbit);
+  reorder(t.step);
+  for (auto& column : t.values) reorder(column);
+}
+
+void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories) {
+  if (trajectories.empty()) return;
+  const auto group = root.create_group("trajectories");
+  for (const Trajectory& t : trajectories) {
+    const auto g = group.create_group(t.name);
+    g.attr("every", static_cast<std::int64_t>(t.every));
+    g.write("orbit", t.orbit);
+    g.write("step", t.step);
+    for (std::size_t k = 0; k < t.columns.size(); ++k) g.write(t.columns[k], t.values[k]);
+  }
+}
+
+void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories) {
+  if (trajectories.empty()) return;
+  const auto group = root.open_group("trajectories");
+  for (Trajectory& t : trajectories) {
+    const auto g = group.open_group(t.name);
+    const auto shape = g.shape("orbit");
+    if (shape.size() != 1) throw Error(ExitCode::io, "HDF5: " + g.path() + "/orbit is not a column");
+    const auto rows = static_cast<std::size_t>(shape[0]);
+    if (static_cast<double>(rows) > 1e9)
+      throw Error(ExitCode::io, "HDF5: " + g.path() + " holds " + std::to_string(rows) + " rows");
+    t.orbit = g.read_int64("orbit", rows);
+    t.step = g.read_int64("step", rows);
+    t.values.clear();
+    for (const auto& name : t.columns) t.values.push_back(g.read_doubles(name, rows));
+  }
+}
+
+}  // namespace qmaps
