@@ -18,6 +18,7 @@ namespace {
 void step_with_record(benchmark::State& state, const BenchMap& bench, int deviations) {
   const auto orbits = static_cast<std::size_t>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
+  const int chains = static_cast<int>(state.range(2));
   const long long steps = bench.steps();
   const std::string key = bench.map + "/" + std::to_string(deviations);
   auto& setup = bench_setup(key, orbits, [&] {
@@ -27,7 +28,7 @@ void step_with_record(benchmark::State& state, const BenchMap& bench, int deviat
   Ensemble& e = *setup.ensemble;
   const Isa isa = best_isa();
   for (auto _ : state) {
-    setup.model->advance(e, next_steps(e, steps, false), Execution{isa, threads});
+    setup.model->advance(e, next_steps(e, steps, false), Execution{isa, threads, chains});
     benchmark::DoNotOptimize(e.state[2][0]);
   }
   const char* record[] = {"raw", "lyapunov", "spectrum"};
@@ -42,8 +43,9 @@ const bool registered = [] {
       benchmark::RegisterBenchmark(
           (bench.map + "/" + std::to_string(deviations) + "_deviations").c_str(), step_with_record,
           bench, deviations)
-          ->ArgNames({"orbits", "threads"})
-          ->Args({bench_size().simd_orbits / 4, 2})
+          ->ArgNames({"orbits", "threads", "chains"})
+          ->Args({bench_size().simd_orbits / 4, 2, 8})
+          ->Args({bench_size().simd_orbits / 4, 2, 2})
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
   return true;

@@ -242,8 +242,15 @@ inline V log(V a) {
     const V f = m - V(1.0);
     const V s = f / (V(2.0) + f);
     const V z = s * s;
-    V series = V(1.0 / 21);
-    for (int k = 19; k >= 3; k -= 2) series = ops::fma(series, z, V(1.0 / k));
+    // Σ_{k≤9} z^k/(2k + 3) by Estrin's scheme: 4 dependent operations instead of Horner's 9 (the
+    // indicators' step is latency-bound on it)
+    const auto c = [](int k) { return V(1.0 / (2 * k + 3)); };
+    const V z2 = z * z, z4 = z2 * z2, z8 = z4 * z4;
+    const V p01 = ops::fma(c(1), z, c(0)), p23 = ops::fma(c(3), z, c(2)),
+            p45 = ops::fma(c(5), z, c(4)), p67 = ops::fma(c(7), z, c(6)),
+            p89 = ops::fma(c(9), z, c(8));
+    const V first8 = ops::fma(ops::fma(p67, z2, p45), z4, ops::fma(p23, z2, p01));
+    const V series = ops::fma(p89, z8, first8);
     const V two_s = s + s;
     const V log_m = ops::fma(two_s * z, series, two_s);
     constexpr double ln2_hi = std::bit_cast<double>(std::uint64_t{0x3fe62e42fee00000});

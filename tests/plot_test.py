@@ -1,7 +1,7 @@
 """tools/qmaps-plot on a small run with every kind of observer: it writes the predictable names at
 the documented pixel sizes (6.4 x 4.8 in, summary panels 5 x 4 in, at --dpi), every image has
 content, each panel draws what the file holds (log colour scale, points coloured by their orbit's
-invariant, density when capped, machine epsilon), and bad input is a clear error that writes
+invariant or chaos indicator, density when capped, machine epsilon), and bad input is a clear error that writes
 nothing."""
 import contextlib
 import importlib.machinery
@@ -143,6 +143,18 @@ class PlotTool(unittest.TestCase):
                                       self.loaded["invariants/H/initial"][g.datasets["orbit"]])
         self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("q1", "p1"))
 
+    def test_section_points_coloured_by_a_chaos_indicator(self):
+        g = self.loaded["sections/q2both"]
+        for name, values in (("megno", self.loaded["chaos/megno"]),
+                             ("gali_2", np.log10(self.loaded["chaos/gali_2"]))):
+            with self.subTest(indicator=name):
+                fig = plt.figure()
+                self.addCleanup(plt.close, fig)
+                ax = fig.add_subplot()
+                dict(plot.items(self.loaded, name))["section-q2both"](ax)
+                np.testing.assert_array_equal(ax.collections[0].get_array(),
+                                              values[g.datasets["orbit"]])
+
     def test_capped_section_shows_its_density(self):
         g = self.loaded["sections/q1up"]
         self.assertGreater(g.attrs["crossings"], len(g.datasets["x"]), "capped")
@@ -193,7 +205,8 @@ class PlotTool(unittest.TestCase):
                 ([foreign], 3, "foreign.h5: not a qmaps run"),
                 ([self.path, "--format", "gif"], 2, "argument --format: invalid choice: 'gif'"),
                 ([self.path, "--color-by", "K"], 2, "--color-by K: the run's invariants are H, "
-                                                    "I1, I2")):
+                                                    "I1, I2; its chaos indicators fli, gali_2, "
+                                                    "gali_4, lyapunov")):
             with self.subTest(message=message):
                 got, stdout, stderr = run_main(*args, "-o", out)
                 self.assertEqual(got, status, stderr)
