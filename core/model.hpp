@@ -71,6 +71,9 @@ class Model {
   // map.
   virtual std::vector<std::string> indicator_names() const = 0;
   virtual std::vector<double> indicators(const Ensemble& e, std::size_t orbit) const = 0;
+  // Why orbit's chaos record (read back from a file) cannot be one a run wrote; empty when it can,
+  // and always for a plain map.
+  virtual std::string invalid_record(const Ensemble& e, std::size_t orbit) const = 0;
   // a·b + c computed in a batch and in a scalar inside the map's `isa` translation unit: both
   // round twice there, or contraction is on (tests/contraction_test.cpp).
   virtual std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const = 0;

@@ -100,6 +100,14 @@ class ModelOf final : public Model {
     else
       return {};
   }
+  std::string invalid_record(const Ensemble& e, std::size_t orbit) const override {
+    if constexpr (requires { Map::invalid(c_, state_of(e, orbit)); }) {
+      const char* why = Map::invalid(c_, state_of(e, orbit));
+      return why ? why : "";
+    } else {
+      return {};
+    }
+  }
   std::vector<double> indicators(const Ensemble& e, std::size_t orbit) const override {
     if constexpr (requires { Map::indicator_names(); }) {
       std::vector<double> out(Map::indicator_names().size());

@@ -13,6 +13,7 @@
 // escape measure, time) is the map's, of the state part.
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdio>
 #include <limits>
@@ -208,6 +209,27 @@ struct Tangent {
     }
     if constexpr (spectrum) s[sums_at + 9] = c.every;
     return s;
+  }
+
+  // Why a record read back (a checkpoint's, a file's final state) cannot be one this map wrote,
+  // or nullptr: n a whole number ≥ 0, deviations of positive finite norm, the steps left to the
+  // next orthonormalization a whole number in 1 … every.
+  static const char* invalid(const Coeffs& c, const State<double>& s) {
+    const double steps = s[sums_at + 4];
+    if (!(steps >= 0 && steps <= 0x1p53 && steps == std::floor(steps)))
+      return "its chaos record's step count is not a whole number >= 0";
+    Base<double> x;
+    std::array<Base<double>, D> w;
+    unpack(s, x, w);
+    for (const auto& v : w)
+      if (const double r2 = phase_dot(v, v); !(r2 > 0 && r2 < HUGE_VAL))
+        return "a deviation vector of its chaos record has norm 0 or not finite";
+    if constexpr (spectrum) {
+      const double left = s[sums_at + 9];
+      if (!(left >= 1 && left <= c.every && left == std::floor(left)))
+        return "its chaos record's steps to the next orthonormalization are not in 1 ... every";
+    }
+    return nullptr;
   }
 
   // The indicators of one record, as indicator_names() lists them (λ's per step).

@@ -247,6 +247,24 @@ TEST_F(BadCheckpoint, OtherVersionIsRefusedNamingBoth) {
                {"checkpoint version 99", "resumes checkpoint version 1"});
 }
 
+// A chaos record no run writes (a step count that is not a whole number) is refused by name.
+TEST_F(BadCheckpoint, ForgedChaosRecordIsRefused) {
+  write_text(dir / "cfg.toml", preset_config("run.h5", 2000, 2000) + "\n[chaos]\n");
+  ASSERT_EQ(run({"run", "cfg.toml", "--set", "run.checkpoint_every=1"}, dir, "5:INT").status,
+            kInterrupted);
+  {
+    h5::Handle file(H5Fopen((dir / "run.h5.ckpt").c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    ASSERT_GE(file.id(), 0);
+    h5::Handle set(H5Dopen2(file.id(), "/final/state/chaos.steps", H5P_DEFAULT), H5Dclose);
+    ASSERT_GE(set.id(), 0);
+    const std::vector<double> forged(2000, -1.5);
+    ASSERT_GE(H5Dwrite(set.id(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, forged.data()),
+              0);
+  }
+  expect_error({"run", "--resume", "run.h5.ckpt"}, 3,
+               {"orbit 0: its chaos record's step count is not a whole number >= 0"});
+}
+
 TEST_F(BadCheckpoint, ResumeWithConfigSetOrOtherNameIsAUsageError) {
   write_text(dir / "cfg.toml", preset_config("run.h5"));
   expect_error({"run", "cfg.toml", "--resume", "run.h5.ckpt"}, 2, {"give no config, --set or --out"});

@@ -110,6 +110,8 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e) {
     if (!finite)
       throw bad(root, "orbit " + std::to_string(i) +
                           " has not escaped but holds a value that is not finite (or a negative drift)");
+    if (const auto why = model.invalid_record(e, i); !why.empty())
+      throw bad(state, "orbit " + std::to_string(i) + ": " + why);
   }
   e.fill_padding();
 }

@@ -86,7 +86,8 @@ void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& tr
   }
 }
 
-void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories) {
+void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories,
+                       long long steps) {
   if (trajectories.empty()) return;
   const auto group = root.open_group("trajectories");
   for (Trajectory& t : trajectories) {
@@ -94,8 +95,10 @@ void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajector
     const auto shape = g.shape("orbit");
     if (shape.size() != 1) throw Error(ExitCode::io, "HDF5: " + g.path() + "/orbit is not a column");
     const auto rows = static_cast<std::size_t>(shape[0]);
-    if (static_cast<double>(rows) > 1e9)
-      throw Error(ExitCode::io, "HDF5: " + g.path() + " holds " + std::to_string(rows) + " rows");
+    if (static_cast<double>(rows) > t.rows(steps))  // more than its orbits can have
+      throw Error(ExitCode::io, "HDF5: " + g.path() + " holds " + std::to_string(rows) +
+                                    " rows; its orbits and steps give at most " +
+                                    std::to_string(static_cast<long long>(t.rows(steps))));
     t.orbit = g.read_int64("orbit", rows);
     t.step = g.read_int64("step", rows);
     t.values.clear();

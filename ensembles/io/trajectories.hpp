@@ -39,7 +39,8 @@ std::vector<std::string> trajectory_columns(const Model& model);
 // Fills t's rows from the started ensemble e (at step 0), over plan.total steps.
 void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan);
 void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories);
-// The rows a checkpoint holds, into trajectories configured alike.
-void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories);
+// The rows a checkpoint holds, into trajectories configured alike, over a run of `steps` steps.
+void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories,
+                       long long steps);
 
 }  // namespace qmaps

@@ -98,11 +98,15 @@ Drawn FromFile::draw(std::size_t orbit) const {
 
 void FromFile::continue_into(Ensemble& e, double escape_bound) const {
   model_.start_from_state(e, columns_, escape_bound);
-  for (std::size_t i = 0; i < orbits_; ++i)
+  for (std::size_t i = 0; i < orbits_; ++i) {
     if (escape_step_[i] >= 0) {
       e.escape_step[i] = 0;
       e.escape_reason[i] = static_cast<std::uint8_t>(escape_reason_[i]);
+    } else if (const auto why = model_.invalid_record(e, i); !why.empty()) {
+      throw Error(ExitCode::io, "'" + path_ + "': /final/state: orbit " + std::to_string(i) +
+                                    ": " + why);
     }
+  }
 }
 
 std::string FromFile::description() const {

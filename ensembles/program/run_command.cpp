@@ -353,7 +353,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
                                     std::to_string(r.plan.total) + ")");
     restore_observers(root, r.observers);
-    read_trajectories(root, r.trajectories);
+    read_trajectories(root, r.trajectories, r.plan.total);
     if (r.per_orbit) copy_phase(root.open_group("initial"), file.root().create_group("initial"), r.orbits);
     return execute(r, e, output, file, interrupt, options, log);
   } catch (const Error& e) {
