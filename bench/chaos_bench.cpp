@@ -45,7 +45,7 @@ const bool registered = [] {
           bench, deviations)
           ->ArgNames({"orbits", "threads", "chains"})
           ->Args({bench_size().simd_orbits / 4, 2, 8})
-          ->Args({bench_size().simd_orbits / 4, 2, 2})
+          ->Args({bench_size().simd_orbits / 4, 2, 1})
           ->Unit(benchmark::kMillisecond)
           ->UseRealTime();
   return true;

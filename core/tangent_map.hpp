@@ -52,10 +52,10 @@ struct Tangent {
   static constexpr bool time_per_orbit = Map::time_per_orbit;
   static constexpr bool reports_faults = Map::reports_faults;
   static constexpr MapFacts facts = Map::facts;
-  // Its record fills the registers: blocks of up to 2 chains, 1 for nine deviations (the runner
-  // clamps). More gain nothing (measured: Suris, one deviation, AVX-512, 8 chains 3.3e8
-  // particle-steps/s against 3.5e8 with 2) and triple the build's time.
-  static constexpr int max_chains = D == 1 ? 2 : 1;
+  // Its record fills the registers: blocks of one chain (the runner clamps). More spill (measured:
+  // Suris, one deviation, AVX-512, 2 threads, 8.3–8.9e8 particle-steps/s with 1 chain against
+  // 7.4–7.5e8 with 2) and multiply the build's time.
+  static constexpr int max_chains = 1;
 
   template <class V>
   using State = std::array<V, size>;
