@@ -17,6 +17,16 @@ std::vector<std::string> trajectory_columns(const Model& model) {
   return out;
 }
 
+std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
+                                   std::size_t i) {
+  const Phase x = model.phase(e, i);
+  std::vector<double> row = {model.time(e, i), x.q1, x.q2, x.p1, x.p2};
+  for (double v : model.invariants(e, i)) row.push_back(v);
+  for (double v : continuous.invariants_of(std::array{x.q1, x.q2, x.p1, x.p2})) row.push_back(v);
+  for (double v : model.indicators(e, i)) row.push_back(v);
+  return row;
+}
+
 void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan) {
   const auto continuous = continuous_model(model);
   t.columns = trajectory_columns(model);
@@ -47,12 +57,7 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
       rows_of[j].push_back(t.orbit.size());
       t.orbit.push_back(static_cast<std::int64_t>(t.orbits[j]));
       t.step.push_back(n);
-      const Phase x = model.phase(copy, j);
-      std::vector<double> row = {model.time(copy, j), x.q1, x.q2, x.p1, x.p2};
-      for (double v : model.invariants(copy, j)) row.push_back(v);
-      for (double v : continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2}))
-        row.push_back(v);
-      for (double v : model.indicators(copy, j)) row.push_back(v);
+      const std::vector<double> row = trajectory_row(model, *continuous, copy, j);
       for (std::size_t k = 0; k < row.size(); ++k) t.values[k].push_back(row[k]);
     }
     if (n >= plan.total) break;

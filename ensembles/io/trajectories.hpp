@@ -34,8 +34,11 @@ struct Trajectory {
   }
 };
 
-// The column names every trajectory of this model has.
+// The column names every trajectory of this model has, and orbit i's row of them at e's step
+// (`continuous` is continuous_model(model)): `qmaps orbit` prints the same rows.
 std::vector<std::string> trajectory_columns(const Model& model);
+std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
+                                   std::size_t i);
 // Fills t's rows from the started ensemble e (at step 0), over plan.total steps.
 void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan);
 void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories);

@@ -5,8 +5,9 @@
 #include <sstream>
 
 #include "core/error.hpp"
-#include "kernels/catalogue.hpp"
+#include "ensembles/io/trajectories.hpp"
 #include "ensembles/program/commands.hpp"
+#include "kernels/catalogue.hpp"
 
 namespace qmaps {
 namespace {
@@ -26,20 +27,14 @@ Phase parse_ic(const std::string& text) {
   return {x[0], x[1], x[2], x[3]};
 }
 
-// One CSV row: n, then t for a map whose physical time is per orbit, q, p, the invariants, and
-// any further columns.
-void row(std::ostream& out, const Model& model, const Ensemble& e,
-         const std::vector<double>& more) {
-  std::vector<double> values;
-  if (model.time_per_orbit()) values.push_back(model.time(e, 0));
-  const Phase x = model.phase(e, 0);
-  values.insert(values.end(), {x.q1, x.q2, x.p1, x.p2});
-  for (double v : model.invariants(e, 0)) values.push_back(v);
-  values.insert(values.end(), more.begin(), more.end());
+// One CSV row: n, then the trajectory row (docs/hdf5-schema.md), without t where the map's
+// physical time is n h.
+void row(std::ostream& out, const Model& model, const Model& continuous, const Ensemble& e) {
+  const std::vector<double> values = trajectory_row(model, continuous, e, 0);
   char buf[64];
   out << e.step;
-  for (double v : values) {
-    std::snprintf(buf, sizeof buf, ",%.17g", v);
+  for (std::size_t k = model.time_per_orbit() ? 0 : 1; k < values.size(); ++k) {
+    std::snprintf(buf, sizeof buf, ",%.17g", values[k]);
     out << buf;
   }
   out << '\n';
@@ -72,19 +67,13 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   // The continuous system's H and its case's second integral at the phase point: the flow's
   // invariants (kernels/flow.hpp) for the map's potential, so that the map's oscillating energy
   // error shows beside its own exact invariants.
-  const auto continuous = continuous_model(*model);
-  out << (model->time_per_orbit() ? "n,t,q1,q2,p1,p2" : "n,q1,q2,p1,p2");
-  for (const auto& name : model->invariant_names()) out << ',' << name;
-  for (const auto& name : continuous->invariant_names()) out << ',' << name << "_cont";
-  for (const auto& name : model->indicator_names()) out << ',' << name;
-  out << '\n';
   // At n = 0 the exponents and ⟨Y⟩ are not yet defined (0/0: NaN).
-  const auto more_columns = [&] {
-    const Phase x = model->phase(e, 0);
-    std::vector<double> values = continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
-    for (double v : model->indicators(e, 0)) values.push_back(v);
-    return values;
-  };
+  const auto continuous = continuous_model(*model);
+  const std::vector<std::string> columns = trajectory_columns(*model);
+  out << 'n';
+  for (std::size_t k = model->time_per_orbit() ? 0 : 1; k < columns.size(); ++k)
+    out << ',' << columns[k];
+  out << '\n';
   RunPlan plan;
   plan.total = o.steps;
   plan.escape_bound = o.escape_bound;
@@ -96,7 +85,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
           << "); rows stop before it\n";
       return 0;
     }
-    row(out, *model, e, more_columns());
+    row(out, *model, *continuous, e);
     if (n >= o.steps) break;
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
