@@ -40,11 +40,24 @@ struct CheckOptions {
   double escape_bound = 1e8;
 };
 
+struct DiscoverOptions {
+  std::string config_path;        // [map] and [ensemble] as `qmaps run` reads them
+  std::vector<std::string> sets;  // "section.key=value"
+  long long degree = 0;           // monomials of degree 1 … degree
+  long long steps = 0;
+  long long orbits = 100;         // the first orbits of the ensemble (all, if it has fewer)
+  double threshold = 0;           // σ_i/σ_1 at or below it: the null space (0: at the largest gap)
+  double drop = 1e-6;             // coefficients below it (relative to the largest), or below
+                                  // their uncertainty 1/gap, not printed
+  bool csv = false;               // the invariants as CSV rows instead of the report
+};
+
 // Each returns the process exit code; errors are thrown as qmaps::Error.
 int run_command(const RunOptions& options, std::ostream& log);
 int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& log);
 int list_command(std::ostream& out);
 int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);
+int discover_command(const DiscoverOptions& options, std::ostream& out);
 
 }  // namespace qmaps

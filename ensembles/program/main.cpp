@@ -74,6 +74,29 @@ int main(int argc, char** argv) {
   check_cmd->add_option("--escape-bound", check.escape_bound, "escape when |q| exceeds this")
       ->capture_default_str();
 
+  qmaps::DiscoverOptions discover;
+  auto* discover_cmd = app.add_subcommand(
+      "discover", "polynomial invariants of a map found from its orbits (SVD of the steps)");
+  discover_cmd->add_option("config", discover.config_path,
+                           "TOML configuration: its [map] and [ensemble]")
+      ->required();
+  discover_cmd->add_option("--degree", discover.degree, "monomials of degree 1 to D")->required();
+  discover_cmd->add_option("--steps", discover.steps, "steps of each orbit")->required();
+  discover_cmd->add_option("--orbits", discover.orbits,
+                           "the first N orbits of the ensemble (all, if it has fewer)")
+      ->capture_default_str();
+  discover_cmd->add_option("--set", discover.sets,
+                           "override a config key: section.key=value (repeatable)");
+  discover_cmd->add_option("--threshold", discover.threshold,
+                           "null space: sigma_i / sigma_1 at or below this (0: at the largest "
+                           "gap below 1e-6)")
+      ->capture_default_str();
+  discover_cmd->add_option("--drop", discover.drop,
+                           "leave out coefficients below this times the largest")
+      ->capture_default_str();
+  discover_cmd->add_flag("--csv", discover.csv,
+                         "the invariants as CSV rows (invariant,monomial,coefficient)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -89,6 +112,7 @@ int main(int argc, char** argv) {
     if (*orbit_cmd) return qmaps::orbit_command(orbit, std::cout, std::cerr);
     if (*info_cmd) return qmaps::info_command(info_path, std::cout);
     if (*check_cmd) return qmaps::check_command(check, std::cout);
+    if (*discover_cmd) return qmaps::discover_command(discover, std::cout);
     return qmaps::list_command(std::cout);
   } catch (const qmaps::Interrupted& e) {
     std::cerr << "qmaps: " << e.what() << '\n';

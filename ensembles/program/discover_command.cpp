@@ -1,0 +1,220 @@
+// `qmaps discover CONFIG.toml --degree D --steps N`: the polynomial invariants of a map found from
+// its orbits (core/invariant_discovery.hpp, docs/discover.md). The map and the orbits are the
+// configuration's [map] and [ensemble], as `qmaps run` reads them; the first --orbits orbits run
+// --steps steps on the scalar reference path, and every step gives a row m(x_{k+1}) − m(x_k) of
+// the monomials of the map's state of degree 1 … D.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/invariant_data.hpp"
+#include "core/invariant_discovery.hpp"
+#include "core/memory_limit.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/program/commands.hpp"
+#include "kernels/catalogue.hpp"
+
+namespace qmaps {
+namespace {
+
+// Monomials at most: the SVD's time grows as their cube (about 15 s for 1000 on one core, two
+// minutes for 2000).
+constexpr double max_monomials = 2000;
+
+// The map of [map]; its errors say where in the config the map is.
+std::unique_ptr<Model> map_of(const Config& config) {
+  const std::string name = config.string("map", "name");
+  ParamValues params;
+  for (const auto& key : config.keys("map"))
+    if (key != "name") params[key] = config.number("map", key);
+  try {
+    return make_model(name, params);
+  } catch (const Error& e) {
+    throw Error(e.code(), config.where("map") + ": " + e.what());
+  }
+}
+
+// The configuration's other tables are `qmaps run`'s and are not read here; a table or key that
+// neither command knows is still an error.
+void reject_unknown_except_run_tables(const Config& config) {
+  for (const char* table : {"run", "output", "invariant_image", "chaos"})
+    if (config.has_section(table)) config.keys(table);
+  for (const char* array : {"histogram", "section", "trajectory"})
+    for (std::size_t i = 0; i < config.entries(array); ++i)
+      config.keys(std::string(array) + "[" + std::to_string(i) + "]");
+  config.reject_unknown();
+}
+
+// The first `orbits` orbits of the configuration's ensemble, started as `qmaps run` starts them.
+Ensemble first_orbits(const Model& model, const InitialConditions& ic, std::size_t orbits,
+                      Start rule, double escape_bound) {
+  if (!ic.generator().continues()) {
+    std::vector<Phase> points(orbits);
+    generate(ic.generator(), 0, points);
+    return model.start(points, rule, escape_bound);
+  }
+  // An earlier run's final states: all are read, the first `orbits` kept as they are.
+  Ensemble all = model.ensemble(ic.orbits());
+  ic.start(model, all, rule, escape_bound, [](std::size_t, std::span<const Phase>) {});
+  Ensemble e = model.ensemble(orbits);
+  for (std::size_t k = 0; k < e.state.size(); ++k)
+    std::copy_n(all.state[k].span().begin(), orbits, e.state[k].span().begin());
+  for (std::size_t i = 0; i < orbits; ++i) {
+    e.escape_step[i] = all.escape_step[i];
+    e.escape_reason[i] = all.escape_reason[i];
+  }
+  e.fill_padding();
+  return e;
+}
+
+// Coefficients left out below this times the largest: --drop, or the coefficients' uncertainty
+// σ_{k+1}/σ_k (1/gap) where that is larger.
+double drop_of(const Discovery& d, const DiscoverOptions& o) {
+  return d.gap > 0 ? std::max(o.drop, 1 / d.gap) : o.drop;
+}
+
+std::string g(double x, int digits = 3) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.*g", digits, x);
+  return text;
+}
+
+void print_report(const Discovery& d, const DifferenceRows& rows,
+                  const std::vector<std::string>& names, const DiscoverOptions& o,
+                  std::ostream& out) {
+  const std::size_t n = d.monomials;
+  out << "rows:       " << d.rows << " steps, " << n << " monomials of degree 1 to " << o.degree
+      << '\n';
+  const std::size_t shown = std::min(n, std::max<std::size_t>(8, d.dimension + 2));
+  out << "singular values sigma_i / sigma_1 (sigma_1 = " << g(d.largest) << "), the smallest "
+      << shown << ":\n";
+  for (std::size_t i = n - shown; i < n; ++i) {
+    char line[80];
+    std::snprintf(line, sizeof line, "  sigma_%-5zu %.3e%s\n", i + 1, d.relative[i],
+                  i + d.dimension == n ? "   <- null space from here" : "");
+    out << line;
+  }
+  out << "null space: dimension " << d.dimension;
+  if (o.threshold > 0)
+    out << " (sigma_i / sigma_1 <= " << g(o.threshold) << ")";
+  else
+    out << " (at the largest gap below " << g(DiscoveryOptions{}.ceiling)
+        << " sigma_1, if it is at least " << g(DiscoveryOptions{}.minimum_gap) << ")";
+  if (d.gap > 0)
+    out << ", gap sigma_" << n - d.dimension << " / sigma_" << n - d.dimension + 1 << " = "
+        << g(d.gap);
+  out << '\n';
+  if (d.largest_gap_at > 0 && d.largest_gap_at != n - d.dimension)
+    out << "largest gap: sigma_" << d.largest_gap_at << " / sigma_" << d.largest_gap_at + 1
+        << " = " << g(d.largest_gap) << " (a null space of dimension " << n - d.largest_gap_at
+        << " there)\n";
+  if (d.invariants.empty()) return;
+  out << "invariants: the reduced basis, largest coefficient 1, coefficients below "
+      << g(drop_of(d, o)) << " left out:\n";
+  for (std::size_t k = 0; k < d.invariants.size(); ++k)
+    out << "invariant " << k + 1 << ": "
+        << rows.monomials().polynomial(d.invariants[k], names, drop_of(d, o)) << '\n';
+}
+
+void print_csv(const Discovery& d, const DifferenceRows& rows,
+               const std::vector<std::string>& names, const DiscoverOptions& o,
+               std::ostream& out) {
+  out << "invariant,monomial,coefficient\n";
+  for (std::size_t k = 0; k < d.invariants.size(); ++k) {
+    const auto& c = d.invariants[k];
+    for (std::size_t j = 0; j < c.size(); ++j) {
+      if (!(std::fabs(c[j]) >= drop_of(d, o)) || c[j] == 0) continue;  // max |c| = 1
+      out << k + 1 << ',' << rows.monomials().text(j, names) << ',' << g(c[j], 17) << '\n';
+    }
+  }
+}
+
+}  // namespace
+
+int discover_command(const DiscoverOptions& o, std::ostream& out) {
+  if (o.degree < 1) throw usage_error("--degree must be >= 1 (got " + std::to_string(o.degree) + ")");
+  if (o.steps < 1) throw usage_error("--steps must be >= 1 (got " + std::to_string(o.steps) + ")");
+  if (o.orbits < 1) throw usage_error("--orbits must be >= 1 (got " + std::to_string(o.orbits) + ")");
+  if (!(o.threshold >= 0 && o.threshold < 1))
+    throw usage_error("--threshold must be in [0, 1) (0: at the largest gap; got " +
+                      number_text(o.threshold) + ")");
+  if (!(o.drop >= 0 && o.drop < 1))
+    throw usage_error("--drop must be in [0, 1) (got " + number_text(o.drop) + ")");
+
+  Config config = Config::load(o.config_path);
+  for (const auto& s : o.sets) config.set(s);
+  const auto model = map_of(config);
+  const std::vector<std::string> names = discovery_variable_names(*model);
+
+  // The size of the problem, before anything is allocated.
+  const double monomials = Monomials::count(names.size(), o.degree);
+  if (!(monomials <= max_monomials))
+    throw usage_error("--degree " + std::to_string(o.degree) + ": " + g(monomials, 6) +
+                      " monomials of the " + std::to_string(names.size()) +
+                      " variables; at most " +
+                      std::to_string(static_cast<long long>(max_monomials)) +
+                      " (the SVD's time grows as their cube)");
+  const double bytes = DifferenceRows::bytes(monomials);
+  const MemoryLimit have = memory_limit();
+  if (bytes > have.bytes)
+    throw usage_error("--degree " + std::to_string(o.degree) + ": " + g(monomials, 6) +
+                      " monomials need about " + g(bytes / (1 << 30)) + " GiB; " + have.what +
+                      " is " + g(have.bytes / (1 << 30)) + " GiB");
+
+  const InitialConditions ic = InitialConditions::from_config(config, *model);
+  Start rule = Start::taylor;
+  try {
+    rule = parse_start(config.string_or("ensemble", "start", "taylor"));
+  } catch (const Error& e) {
+    throw usage_error(config.where("ensemble", "start") + ": " + e.what());
+  }
+  const double escape_bound = config.number_or("run", "escape_bound", 1e8);
+  if (!(escape_bound > 0)) throw usage_error(config.where("run", "escape_bound") + " must be > 0");
+  reject_unknown_except_run_tables(config);
+
+  const std::size_t orbits = std::min(static_cast<std::size_t>(o.orbits), ic.orbits());
+  const double planned = static_cast<double>(orbits) * static_cast<double>(o.steps);
+  if (planned < monomials)
+    throw usage_error("too few rows: " + std::to_string(orbits) + " orbits x " +
+                      std::to_string(o.steps) + " steps give " + g(planned, 6) + " rows for " +
+                      g(monomials, 6) + " monomials; give more --orbits or --steps (many more " +
+                      "rows than monomials)");
+
+  Ensemble e = first_orbits(*model, ic, orbits, rule, escape_bound);
+  DifferenceRows rows(Monomials(names.size(), static_cast<int>(o.degree)));
+  const StepsAdded added = add_steps(*model, e, o.steps, escape_bound, rows);
+  if (rows.rows() < rows.monomials().size())
+    throw usage_error("too few rows: " + std::to_string(rows.rows()) + " steps of orbits that " +
+                      "did not escape (" + std::to_string(added.escaped) + " of " +
+                      std::to_string(orbits) + " escaped) for " +
+                      std::to_string(rows.monomials().size()) + " monomials");
+  DiscoveryOptions options;
+  options.threshold = o.threshold;
+  const Discovery d = discover(rows, options);
+
+  if (o.csv) {
+    print_csv(d, rows, names, o, out);
+    return 0;
+  }
+  out << "map:        " << model->name() << " (";
+  for (std::size_t k = 0, shown = 0; k < model->param_specs().size(); ++k)
+    if (!std::isnan(model->param_values()[k]))
+      out << (shown++ ? ", " : "") << model->param_specs()[k].name << " = "
+          << number_text(model->param_values()[k]);
+  out << ")\n";
+  out << "orbits:     " << orbits << " of " << ic.description() << "; " << o.steps << " steps, "
+      << added.escaped << " escaped";
+  if (added.skipped) out << ", " << added.skipped << " steps left out (a monomial overflowed)";
+  out << '\n';
+  out << "variables:  ";
+  for (std::size_t k = 0; k < names.size(); ++k) out << (k ? ", " : "") << names[k];
+  out << '\n';
+  print_report(d, rows, names, o, out);
+  return 0;
+}
+
+}  // namespace qmaps
