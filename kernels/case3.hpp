@@ -262,7 +262,8 @@ struct Case3 {
       w2 = w2 - d2.delta;
       slope1 = d1.slope;
       slope2 = d2.slope;
-      done = settled(d1.delta, w1) & settled(d2.delta, w2);
+      const Mask settled1 = settled(d1.delta, w1), settled2 = settled(d2.delta, w2);
+      done = settled1 & settled2;  // both evaluated: a mask, not a short circuit
     }
     Mask active = ops::negate(done);
     for (int it = 2; it < max_iterations && ops::any(active); ++it) {
@@ -272,7 +273,8 @@ struct Case3 {
       w2 = ops::select(active, n2, w2);
       slope1 = ops::select(active, d1.slope, slope1);
       slope2 = ops::select(active, d2.slope, slope2);
-      active = active & ops::negate(settled(d1.delta, n1) & settled(d2.delta, n2));
+      const Mask settled1 = settled(d1.delta, n1), settled2 = settled(d2.delta, n2);
+      active = active & ops::negate(settled1 & settled2);
     }
     const V none(0.0);
     const Mask uphill = (slope1 > none) & (slope2 > none);
