@@ -14,6 +14,7 @@
 #include "core/invariant_discovery.hpp"
 #include "core/memory_limit.hpp"
 #include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/commands.hpp"
 #include "kernels/catalogue.hpp"
@@ -24,19 +25,6 @@ namespace {
 // Monomials at most: the SVD's time grows as their cube (about 15 s for 1000 on one core, two
 // minutes for 2000).
 constexpr double max_monomials = 2000;
-
-// The map of [map]; its errors say where in the config the map is.
-std::unique_ptr<Model> map_of(const Config& config) {
-  const std::string name = config.string("map", "name");
-  ParamValues params;
-  for (const auto& key : config.keys("map"))
-    if (key != "name") params[key] = config.number("map", key);
-  try {
-    return make_model(name, params);
-  } catch (const Error& e) {
-    throw Error(e.code(), config.where("map") + ": " + e.what());
-  }
-}
 
 // The configuration's other tables are `qmaps run`'s and are not read here; a table or key that
 // neither command knows is still an error.

@@ -11,6 +11,7 @@
 #include <ostream>
 
 #include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "core/error.hpp"
 #include "core/io/h5.hpp"
 #include "kernels/catalogue.hpp"
@@ -52,20 +53,6 @@ ChaosReport chaos_report_of(const Config& config) {
   return report;
 }
 
-// The map of [map], with its chaos record if [chaos] asks for one; its errors say where in the
-// config the map is.
-std::unique_ptr<Model> map_of(const Config& config) {
-  const std::string name = config.string("map", "name");
-  ParamValues params;
-  for (const auto& key : config.keys("map"))
-    if (key != "name") params[key] = config.number("map", key);
-  const auto chaos = chaos_options_of(config);
-  try {
-    return chaos ? make_model(name, params, *chaos) : make_model(name, params);
-  } catch (const Error& e) {
-    throw Error(e.code(), config.where("map") + ": " + e.what());
-  }
-}
 
 // The memory a run holds per orbit: the state (with its chaos record), the escape record (step,
 // reason), the invariant tracking (initial value, max drift), the chaos indicators computed for
@@ -332,7 +319,8 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
     const Config config = Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
     const auto orbits = root.attr_int64("orbits");
     if (orbits <= 0) throw Error(ExitCode::io, "attribute orbits is " + std::to_string(orbits));
-    Run r = run_of(config, map_of(config), static_cast<std::size_t>(orbits), options);
+    Run r = run_of(config, map_of(config, chaos_options_of(config)),
+                   static_cast<std::size_t>(orbits), options);
     r.path = path.substr(0, path.size() - suffix.size());
     r.kind = root.attr_string("ensemble");
     r.seed = static_cast<std::uint64_t>(root.attr_int64("seed"));
@@ -375,7 +363,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
   for (const auto& s : options.sets) config.set(s);
   if (!options.out.empty()) config.set("output.file=" + options.out);
 
-  auto model = map_of(config);
+  auto model = map_of(config, chaos_options_of(config));
   const auto initial_conditions = InitialConditions::from_config(config, *model);
   Run r = run_of(config, std::move(model), initial_conditions.orbits(), options);
   r.kind = initial_conditions.kind();
