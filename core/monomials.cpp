@@ -38,12 +38,6 @@ Monomials::Monomials(std::size_t variables, int degree) : variables_(variables),
   size_ = exponents_.size() / variables;
 }
 
-int Monomials::degree_of(std::size_t j) const {
-  int d = 0;
-  for (std::size_t i = 0; i < variables_; ++i) d += exponent(j, i);
-  return d;
-}
-
 void Monomials::evaluate(std::span<const double> x, std::span<double> out) const {
   // Powers x_i^k for k = 0 … d, then one product per monomial.
   std::vector<double> powers(variables_ * static_cast<std::size_t>(degree_ + 1));

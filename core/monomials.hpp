@@ -24,7 +24,6 @@ class Monomials {
   int degree() const { return degree_; }
   // The exponent of variable i in monomial j.
   int exponent(std::size_t j, std::size_t i) const { return exponents_[j * variables_ + i]; }
-  int degree_of(std::size_t j) const;
 
   // out[j] = monomial j at x (x.size() = variables(), out.size() = size()).
   void evaluate(std::span<const double> x, std::span<double> out) const;
