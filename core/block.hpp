@@ -4,11 +4,11 @@
 // per-step extra is one addition: acc += |newest q|², a conservative escape test. When a chunk ends
 // with acc beyond the bound or non-finite in an alive lane, the chunk is replayed from its start
 // step by step, freezing each lane exactly where the reference path stops it. So every lane
-// computes exactly what advance_reference computes for its orbit. A map whose step solves an
+// computes exactly what the reference path computes for its orbit. A map whose step solves an
 // equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
 //
 // The scalar reference path is the same code at V = double, one orbit per block, one checked step
-// at a time (advance_reference below): the reference and every ISA share one implementation of
+// at a time (advance_range in core/runner.hpp): the reference and every ISA share one implementation of
 // stepping, escapes and observers. Each SIMD instantiation lives in its ISA's translation unit
 // (core/simd_unit.cpp.in, through core/simd_blocks.hpp).
 #include <algorithm>
@@ -319,7 +319,7 @@ template <class Map, class V, int K>
   long long next_multiple = (plan.first / plan.stride + 1) * plan.stride;
 
   // One step of chain k to node j, checked: the lanes that escape or fault there are recorded and
-  // frozen, as advance_reference stops each orbit.
+  // frozen, as the reference path stops each orbit.
   // Steps in place, the previous node copied value by value (a copy of the whole State compiles to
   // a memory-to-memory move).
   const auto checked_step = [&](int k, long long j) {
@@ -405,15 +405,6 @@ template <class Map, class V, int K>
     L::store(e, first + k * W, L::select(alive[k], s[k], frozen[k]));
     track[k].store(e, first + k * W);
   }
-}
-
-// The scalar reference path: V = double, one orbit at a time, one checked step at a time, no
-// threads. Every other path must reproduce it bit for bit.
-template <class Map>
-void advance_reference(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan,
-                       Observers* observers) {
-  for (std::size_t orbit = 0; orbit < e.orbits; ++orbit)
-    advance_block<Map, double, 1>(c, e, orbit, plan, observers, Stepping::single_steps);
 }
 
 }  // namespace qmaps

@@ -54,6 +54,13 @@ class Model {
   // Advances from plan.first to plan.last; the samples of the orbits go into `observers`.
   virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                        Observers* observers = nullptr) const = 0;
+  // The orbits of a block of path x for this map (its chaos record may take fewer chains), and
+  // the blocks [first, first + count) advanced on the calling thread alone, count a multiple of
+  // the block: what the runner of several ensembles (core/sweep_runner.hpp) schedules.
+  virtual std::size_t block_orbits(const Execution& x) const = 0;
+  virtual void advance_range(Ensemble& e, std::size_t first, std::size_t count,
+                             const RunPlan& plan, const Execution& x,
+                             Observers* observers) const = 0;
 
   virtual Phase phase(const Ensemble& e, std::size_t orbit) const = 0;
   // The phase point of one state (components in the order of state_names()).

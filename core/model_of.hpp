@@ -52,10 +52,14 @@ class ModelOf final : public Model {
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
-    Execution within = x;  // a map whose record fills the registers takes fewer chains
-    if constexpr (requires { Map::max_chains; })
-      within.chains = std::min(x.chains, Map::max_chains);
-    run<Map>(c_, e, plan, within, observers);
+    run<Map>(c_, e, plan, within(x), observers);
+  }
+  std::size_t block_orbits(const Execution& x) const override {
+    return qmaps::block_orbits(within(x));
+  }
+  void advance_range(Ensemble& e, std::size_t first, std::size_t count, const RunPlan& plan,
+                     const Execution& x, Observers* observers) const override {
+    qmaps::advance_range<Map>(c_, e, first, count, plan, within(x), observers);
   }
   std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const override {
     return simd_path<Map>(isa).contraction_probe(a, b, c);
@@ -145,6 +149,12 @@ class ModelOf final : public Model {
         e.invariant_max_drift[k][i] = 0;
       }
     }
+  }
+
+  // x as this map runs it: a map whose record fills the registers takes fewer chains.
+  static Execution within(Execution x) {
+    if constexpr (requires { Map::max_chains; }) x.chains = std::min(x.chains, Map::max_chains);
+    return x;
   }
 
   static typename Map::template State<double> state_of(const Ensemble& e, std::size_t orbit) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
 #include <vector>
@@ -49,6 +50,7 @@ TEST(Presets, EachRunsSmallAndWritesItsObservers) {
   for (const auto& path : preset_paths()) {
     SCOPED_TRACE(path);
     const Config preset = Config::load(path);
+    if (preset.entries("sweep") > 0) continue;  // the scans: below
     const std::string kind = preset.string_or("ensemble", "kind", "box");
     const bool grid = kind == "grid" || preset.string_or("ensemble", "sampling", "") == "grid";
     TempDir dir;
@@ -74,6 +76,60 @@ TEST(Presets, EachRunsSmallAndWritesItsObservers) {
     }
     ASSERT_TRUE(preset.has("invariant_image", "x"));
     expect_mostly_inside(root.open_group("invariants").open_group("image"), "invariant image");
+  }
+}
+
+// A scan preset with its axes replaced by these lists of values, run at full size per point.
+Result run_scan(const std::string& preset, const std::string& beta_over_alpha,
+                const std::string& delta_over_alpha, const TempDir& dir) {
+  std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/" + preset + ".toml");
+  text = text.substr(0, text.find("[[sweep]]")) + "[[sweep]]\nparameter = \"beta/alpha\"\nvalues = " +
+         beta_over_alpha + "\n\n[[sweep]]\nparameter = \"delta/alpha\"\nvalues = " +
+         delta_over_alpha + "\n";
+  std::ofstream(dir / "scan.toml") << text;
+  return run({"run", "scan.toml", "--out", "scan.h5", "--quiet"}, dir);
+}
+
+// The scans' known integrable points and the separable row delta = 0 come out regular (no orbit
+// of 64 chaotic), against the strongly chaotic row delta/alpha = 40 (most orbits chaotic).
+TEST(Presets, ScansFindTheKnownCasesRegularAndChaosAroundThem) {
+  struct Scan {
+    std::string preset, beta, delta;
+    std::vector<std::string> cases;  // the second integral the map names at each point, or ""
+  };
+  const std::vector<Scan> scans = {
+      {"scan-b4a", "[1, 8, 16]", "[0, 2, 6, 12, 40]",
+       {"", "I_case1", "", "", "", "", "", "I_case4", "", "", "", "", "", "I_case3", ""}},
+      {"scan-a-eq-b", "[1, 4]", "[0, 2, 6, 40]",
+       {"", "I_case1", "I_case2", "", "", "", "", ""}}};
+  for (const auto& scan : scans) {
+    SCOPED_TRACE(scan.preset);
+    TempDir dir;
+    const Result r = run_scan(scan.preset, scan.beta, scan.delta, dir);
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto file = h5::File::open_read(dir / "scan.h5");
+    const auto sweep = file.root().open_group("sweep");
+    const auto delta = all_doubles(sweep.open_group("axes"), "delta_over_alpha");
+    const auto fraction = all_doubles(sweep, "chaotic_fraction");
+    const auto escaped = all_int64(sweep, "escaped");
+    ASSERT_EQ(fraction.size(), scan.cases.size());
+    for (std::size_t k = 0; k < fraction.size(); ++k) {
+      const double d = delta[k % delta.size()];
+      std::string name = std::to_string(k);  // zero-padded to the last point's digits
+      if (fraction.size() > 10 && k < 10) name.insert(name.begin(), '0');
+      const auto invariants =
+          sweep.open_group("runs").open_group(name).open_group("invariants").members();
+      SCOPED_TRACE("point " + std::to_string(k) + ", delta/alpha = " + std::to_string(d));
+      EXPECT_EQ(escaped[k], 0);
+      const std::string second = invariants.size() == 2 ? invariants[1] : "";
+      EXPECT_EQ(second, scan.cases[k]);
+      if (!scan.cases[k].empty() || d == 0) {
+        EXPECT_EQ(fraction[k], 0.0);
+      }
+      if (d == 40) {
+        EXPECT_GE(fraction[k], 0.5);
+      }
+    }
   }
 }
 

@@ -338,6 +338,18 @@ std::vector<double> Config::numbers(std::string_view section, std::string_view k
   return out;
 }
 
+std::vector<double> Config::numbers(std::string_view section, std::string_view key) const {
+  const auto* a = doc_->node(*this, section, key).as_array();
+  std::vector<double> out;
+  if (a)
+    for (const auto& item : *a)
+      if (item.is_number() && std::isfinite(*item.value<double>()))
+        out.push_back(*item.value<double>());
+  if (!a || a->empty() || out.size() != a->size())
+    throw usage_error(where(section, key) + " must be a non-empty array of finite numbers");
+  return out;
+}
+
 std::vector<std::string> Config::strings(std::string_view section, std::string_view key,
                                          std::size_t count) const {
   const auto* a = doc_->node(*this, section, key).as_array();

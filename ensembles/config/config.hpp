@@ -47,6 +47,8 @@ class Config {
   // An array of `count` finite numbers (e.g. a phase-space point [q1, q2, p1, p2]).
   std::vector<double> numbers(std::string_view section, std::string_view key,
                               std::size_t count) const;
+  // A non-empty array of finite numbers, of any length (e.g. a sweep's values).
+  std::vector<double> numbers(std::string_view section, std::string_view key) const;
   // An array of `count` strings (e.g. axes = ["q1", "p1"]).
   std::vector<std::string> strings(std::string_view section, std::string_view key,
                                    std::size_t count) const;

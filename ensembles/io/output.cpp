@@ -91,67 +91,33 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
   }
 }
 
-// The value at fraction f of the sorted values (nearest rank); NaN for none.
-double quantile(std::vector<double> values, double f) {
-  if (values.empty()) return std::nan("");
-  const auto k = static_cast<std::size_t>(f * static_cast<double>(values.size() - 1) + 0.5);
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
-}
-
 // /chaos (docs/chaos.md): each indicator of every orbit; each one's histogram and quartiles over
 // the orbits that stayed bounded (log10 of the GALIs); the orbits' classes by MEGNO.
 void write_chaos(const h5::Group& root, const RunRecord& run) {
-  const auto names = run.model.indicator_names();
-  if (names.empty()) return;
-  const Ensemble& e = run.ensemble;
-  const std::size_t n = e.orbits;
-  std::vector<std::vector<double>> values(names.size(), std::vector<double>(n));
-  const long long count = static_cast<long long>(n);
-#pragma omp parallel for schedule(static)
-  for (long long i = 0; i < count; ++i) {
-    const auto v = run.model.indicators(e, static_cast<std::size_t>(i));
-    for (std::size_t k = 0; k < v.size(); ++k) values[k][static_cast<std::size_t>(i)] = v[k];
-  }
-  const std::size_t megno = 2;  // indicator_names(): lyapunov, fli, megno, …
-  std::vector<std::uint8_t> classes(n);
-  std::int64_t tally[3] = {0, 0, 0};
-  for (std::size_t i = 0; i < n; ++i) {
-    classes[i] = e.escape_step[i] >= 0                                  ? 2
-                 : values[megno][i] > run.chaos.megno_threshold ? 1
-                                                                        : 0;
-    ++tally[classes[i]];
-  }
+  if (run.model.indicator_names().empty()) return;
+  const ChaosTable t = chaos_table(run.model, run.ensemble, run.chaos.megno_threshold);
   const auto chaos = root.create_group("chaos");
   chaos.attr("megno_threshold", run.chaos.megno_threshold);
-  chaos.attr("regular", tally[0]);
-  chaos.attr("chaotic", tally[1]);
-  chaos.attr("escaped", tally[2]);
-  chaos.attr("chaotic_fraction", tally[0] + tally[1] > 0
-                                     ? static_cast<double>(tally[1]) /
-                                           static_cast<double>(tally[0] + tally[1])
-                                     : std::nan(""));
+  chaos.attr("regular", t.regular);
+  chaos.attr("chaotic", t.chaotic);
+  chaos.attr("escaped", t.escaped);
+  chaos.attr("chaotic_fraction", t.chaotic_fraction());
   chaos.attr("class_codes", std::string("0 regular, 1 chaotic (megno > megno_threshold), 2 escaped"));
   chaos.attr("unit", std::string("Lyapunov exponents per step"));
   if (run.per_orbit) {
-    for (std::size_t k = 0; k < names.size(); ++k) chaos.write(names[k], values[k]);
-    chaos.write("class", classes);
+    for (std::size_t k = 0; k < t.names.size(); ++k) chaos.write(t.names[k], t.values[k]);
+    chaos.write("class", t.classes);
   }
   const auto histograms = chaos.create_group("histograms");
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    const bool logarithmic = names[k].starts_with("gali");
-    std::vector<double> bounded;
-    for (std::size_t i = 0; i < n; ++i) {
-      const double v = logarithmic ? std::log10(values[k][i]) : values[k][i];
-      if (classes[i] != 2 && std::isfinite(v)) bounded.push_back(v);
-    }
+  for (std::size_t k = 0; k < t.names.size(); ++k) {
+    const std::vector<double> bounded = t.bounded(k);
     double lo = 0, hi = 1;
     if (!bounded.empty()) {
       const auto [min, max] = std::minmax_element(bounded.begin(), bounded.end());
       lo = *min;
       hi = *max > *min ? std::nextafter(*max, HUGE_VAL) : *min + 1;
     }
-    const std::string name = logarithmic ? "log10_" + names[k] : names[k];
+    const std::string name = t.histogram_name(k);
     Histogram h(name, {Axis{name, lo, hi, run.chaos.bins}});
     for (double v : bounded) h.add(&v);
     const auto g = histograms.create_group(name);
@@ -163,6 +129,56 @@ void write_chaos(const h5::Group& root, const RunRecord& run) {
 }
 
 }  // namespace
+
+double quantile(std::vector<double> values, double f) {
+  if (values.empty()) return std::nan("");
+  const auto k = static_cast<std::size_t>(f * static_cast<double>(values.size() - 1) + 0.5);
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold) {
+  ChaosTable t;
+  t.names = model.indicator_names();
+  const std::size_t n = e.orbits;
+  t.values.assign(t.names.size(), std::vector<double>(n));
+  const long long count = static_cast<long long>(n);
+#pragma omp parallel for schedule(static)
+  for (long long i = 0; i < count; ++i) {
+    const auto v = model.indicators(e, static_cast<std::size_t>(i));
+    for (std::size_t k = 0; k < v.size(); ++k) t.values[k][static_cast<std::size_t>(i)] = v[k];
+  }
+  t.classes.resize(n);
+  if (t.names.empty()) return t;
+  const std::size_t megno = 2;  // indicator_names(): lyapunov, fli, megno, …
+  for (std::size_t i = 0; i < n; ++i) {
+    t.classes[i] = e.escape_step[i] >= 0                        ? 2
+                   : t.values[megno][i] > megno_threshold ? 1
+                                                          : 0;
+    ++(t.classes[i] == 0 ? t.regular : t.classes[i] == 1 ? t.chaotic : t.escaped);
+  }
+  return t;
+}
+
+double ChaosTable::chaotic_fraction() const {
+  return regular + chaotic > 0 ? static_cast<double>(chaotic) / static_cast<double>(regular + chaotic)
+                               : std::nan("");
+}
+
+bool ChaosTable::logarithmic(std::size_t k) const { return names[k].starts_with("gali"); }
+
+std::string ChaosTable::histogram_name(std::size_t k) const {
+  return logarithmic(k) ? "log10_" + names[k] : names[k];
+}
+
+std::vector<double> ChaosTable::bounded(std::size_t k) const {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < classes.size(); ++i) {
+    const double v = logarithmic(k) ? std::log10(values[k][i]) : values[k][i];
+    if (classes[i] != 2 && std::isfinite(v)) out.push_back(v);
+  }
+  return out;
+}
 
 DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
   DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
@@ -226,17 +242,21 @@ void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n) {
   }
 }
 
-void write_run(const h5::Group& root, const RunRecord& run) {
-  const Model& model = run.model;
-  const Ensemble& e = run.ensemble;
-  const std::size_t n = e.orbits;
-
+void write_build(const h5::Group& root) {
   root.attr("schema_version", schema_version);
   root.attr("qmaps_version", build::version);
   root.attr("git_commit", build::commit);
   root.attr("compiler", build::compiler);
   root.attr("compiler_flags", build::engine_flags);
   root.attr("kernel_flags", build::kernel_flags);
+}
+
+void write_run(const h5::Group& root, const RunRecord& run) {
+  const Model& model = run.model;
+  const Ensemble& e = run.ensemble;
+  const std::size_t n = e.orbits;
+
+  write_build(root);
   root.attr("map", std::string(model.name()));
   const auto specs = model.param_specs();
   const auto values = model.param_values();

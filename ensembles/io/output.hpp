@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
 #include "core/ensemble.hpp"
 #include "core/io/h5.hpp"
@@ -23,6 +24,24 @@ struct ChaosReport {
   double megno_threshold = 3;
   long long bins = 100;
 };
+
+// The chaos indicators of every orbit (docs/chaos.md) and its class: 0 regular, 1 chaotic (MEGNO
+// above the threshold), 2 escaped.
+struct ChaosTable {
+  std::vector<std::string> names;           // indicator_names(): lyapunov, fli, megno, …
+  std::vector<std::vector<double>> values;  // [indicator][orbit]
+  std::vector<std::uint8_t> classes;
+  std::int64_t regular = 0, chaotic = 0, escaped = 0;
+  double chaotic_fraction() const;  // chaotic / (regular + chaotic); NaN when every orbit escaped
+  bool logarithmic(std::size_t k) const;  // the GALIs are summarized as log10
+  std::string histogram_name(std::size_t k) const;  // "log10_gali2" for a GALI
+  // Indicator k (log10 where logarithmic) over the orbits that stayed bounded, where finite.
+  std::vector<double> bounded(std::size_t k) const;
+};
+ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold);
+
+// The value of rank round(f (n − 1)) among n values; NaN for none.
+double quantile(std::vector<double> values, double f);
 
 // Everything of a run but /initial, which is written first, by parts (create_phase, write_phase_part),
 // as the orbits start.
@@ -71,6 +90,8 @@ struct DriftHistogram {
 };
 DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
 
+// The schema and the build that wrote the file: version, commit, compiler and flags.
+void write_build(const h5::Group& root);
 void write_run(const h5::Group& root, const RunRecord& run);
 
 // The current time as ISO 8601 UTC, e.g. 2026-11-21T12:00:00Z.

@@ -1,9 +1,11 @@
 // `qmaps info FILE.h5`: what an earlier run holds — map, parameters, ensemble, orbits, steps,
 // escapes by reason, each invariant's worst and median relative drift, its histograms and
-// sections with their counts, and its chaos indicators' classes and quartiles.
+// sections with their counts, and its chaos indicators' classes and quartiles; for a sweep, each
+// point's summary.
 #include <cstdio>
 #include <map>
 #include <ostream>
+#include <vector>
 
 #include "core/ensemble.hpp"
 #include "core/error.hpp"
@@ -42,9 +44,71 @@ std::size_t points_in(const h5::Group& s) {
   return static_cast<std::size_t>(shape[0]);
 }
 
+// A sweep's file: its axes, then one row per point with its summary (docs/sweeps.md).
+int describe_sweep(const std::string& path, const h5::Group& root, std::ostream& out) {
+  const auto sweep = root.open_group("sweep");
+  const auto points = sweep.attr_int64("points");
+  if (points < 1 || points > (1 << 24))
+    throw Error(ExitCode::io, "attribute /sweep/points is " + std::to_string(points));
+  const auto n = static_cast<std::size_t>(points);
+  const auto shape = sweep.read_int64("shape", sweep.shape("shape").empty() ? 0 : sweep.shape("shape")[0]);
+  std::vector<std::string> axes;
+  std::vector<std::vector<double>> values;
+  std::size_t product = 1;
+  for (std::size_t k = 0; k < shape.size(); ++k) {
+    axes.push_back(sweep.attr_string("axis" + std::to_string(k)));
+    if (shape[k] < 1) throw Error(ExitCode::io, "/sweep/shape holds " + std::to_string(shape[k]));
+    values.push_back(sweep.open_group("axes").read_doubles(axes.back(), static_cast<std::size_t>(shape[k])));
+    product *= static_cast<std::size_t>(shape[k]);
+  }
+  if (shape.empty() || product != n)
+    throw Error(ExitCode::io, "/sweep/shape does not multiply to its " + std::to_string(n) + " points");
+  out << "file:       " << path << " (schema " << root.attr_int64("schema_version") << ")\n";
+  out << "map:        " << root.attr_string("map") << ", sweep of " << n << " points over "
+      << sweep.attr_string("axes") << ", " << root.attr_int64("steps") << " steps\n";
+  const bool chaos = sweep.has("chaotic_fraction");
+  const auto orbits = sweep.read_int64("orbits", n), escaped = sweep.read_int64("escaped", n);
+  const auto drift = sweep.read_doubles("worst_drift", n);
+  std::vector<double> fraction, megno;
+  if (chaos) {
+    fraction = sweep.read_doubles("chaotic_fraction", n);
+    megno = sweep.read_doubles("median_megno", n);
+  }
+  char line[256];
+  out << "point";
+  for (const auto& a : axes) {
+    std::snprintf(line, sizeof line, " %16s", a.c_str());
+    out << line;
+  }
+  out << "   orbits  escaped" << (chaos ? "  chaotic  median MEGNO" : "") << "  worst drift\n";
+  for (std::size_t k = 0; k < n; ++k) {
+    std::snprintf(line, sizeof line, "%5zu", k);
+    out << line;
+    std::size_t stride = n;
+    for (std::size_t a = 0; a < axes.size(); ++a) {
+      stride /= static_cast<std::size_t>(shape[a]);
+      std::snprintf(line, sizeof line, " %16.6g", values[a][k / stride % values[a].size()]);
+      out << line;
+    }
+    std::snprintf(line, sizeof line, " %8lld %8lld", static_cast<long long>(orbits[k]),
+                  static_cast<long long>(escaped[k]));
+    out << line;
+    if (chaos) {
+      std::snprintf(line, sizeof line, " %8.3g %13.3g", fraction[k], megno[k]);
+      out << line;
+    }
+    std::snprintf(line, sizeof line, " %12.3g\n", drift[k]);
+    out << line;
+  }
+  return 0;
+}
+
 int describe(const std::string& path, std::ostream& out) {
   const auto file = h5::File::open_read(path);
   const auto root = file.root();
+  if (root.has("sweep") && root.has_attr("schema_version") && root.has_attr("map") &&
+      root.has_attr("steps"))
+    return describe_sweep(path, root, out);
   for (const char* needed : {"schema_version", "map", "orbits", "steps"})
     if (!root.has_attr(needed))
       throw Error(ExitCode::io,

@@ -1,0 +1,82 @@
+#pragma once
+// A run as its resolved configuration and the command line describe it: the model, the plan, the
+// path, the observers and the output's options, checked before anything is allocated. qmaps run
+// makes one (ensembles/program/run_command.cpp), a sweep one per point (sweep_command.cpp).
+#include <chrono>
+#include <cerrno>
+#include <cstring>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/model.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/config/observer_config.hpp"
+#include "ensembles/io/output.hpp"
+#include "ensembles/io/trajectories.hpp"
+#include "ensembles/program/commands.hpp"
+#include "kernels/catalogue.hpp"
+
+namespace qmaps {
+
+// [chaos], if the run records chaos indicators (docs/chaos.md).
+std::optional<ChaosOptions> chaos_options_of(const Config& config);
+
+// The memory a run holds per orbit besides its observers.
+double bytes_per_orbit(const Model& model);
+
+// A run as its resolved configuration and the command line describe it (the ensemble aside).
+struct Run {
+  std::unique_ptr<Model> model;
+  std::size_t orbits = 0;
+  Start start = Start::taylor;
+  RunPlan plan;
+  Execution x;
+  long long checkpoint_every = 0;  // 0: only when interrupted
+  bool per_orbit = true;
+  int deflate = 0;  // [output] compression: the gzip level, 0 for none
+  Observers observers;
+  std::optional<InvariantImage> image;
+  ChaosReport chaos;
+  std::vector<Trajectory> trajectories;
+  std::string path;  // the output file
+  std::string kind, description;  // the ensemble's kind and its one-line description
+  std::uint64_t seed = 0;
+  std::uint64_t rejected = 0;  // candidates rejected while drawing it (shell ensembles)
+  bool rejects_points = false;  // the kind rejects candidates: the summary says how many
+  // Provenance carried over from the first session (and the checkpoints).
+  std::string config_text, config_resolved, command_line, started, sessions;
+  // When this session began: the summary splits its time into starting (configuration, initial
+  // conditions or the checkpoint), stepping (with the observers) and writing the output.
+  std::chrono::steady_clock::time_point began = std::chrono::steady_clock::now();
+};
+
+// Reads everything of [run], [output], [chaos] and the observers' tables for `orbits` orbits of
+// `model`; every error names its key. The ensemble itself is the caller's.
+Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
+           const RunOptions& options);
+
+// The record of the run with the ensemble where it is now, this session ended at `now`.
+RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
+                    const std::string& session_started, const std::string& now,
+                    const std::string& session_command);
+
+// Runs `write`, which writes the file at `path`; an io failure there names the file and, where
+// the system said why (no space left on device, file too large), the reason.
+template <class Write>
+void naming_failures(const std::string& path, Write write) {
+  try {
+    errno = 0;
+    write();
+  } catch (const Error& failure) {
+    if (failure.code() != ExitCode::io) throw;
+    const int err = errno;
+    throw Error(ExitCode::io, "cannot write '" + path + "': " + failure.what() +
+                                  (err ? std::string(" (") + std::strerror(err) + ")" : ""));
+  }
+}
+
+
+}  // namespace qmaps

@@ -1,0 +1,172 @@
+#include "ensembles/program/sweep_run.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/io/h5.hpp"
+#include "core/memory_limit.hpp"
+#include "core/sweep_runner.hpp"
+#include "ensembles/config/map_config.hpp"
+#include "ensembles/io/output_lock.hpp"
+#include "ensembles/io/sweep_output.hpp"
+#include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/program/progress.hpp"
+#include "ensembles/program/run_setup.hpp"
+
+namespace qmaps {
+namespace {
+
+// Refuses, before allocating, a sweep whose points cannot all fit in this machine's memory.
+void check_memory(const Config& config, const std::vector<Run>& runs) {
+  double bytes = 0;
+  std::size_t orbits = 0;
+  for (const auto& r : runs) {
+    const std::size_t padded =
+        (r.orbits + Ensemble::padding - 1) / Ensemble::padding * Ensemble::padding;
+    bytes += static_cast<double>(padded) * bytes_per_orbit(*r.model) + r.observers.bytes(r.x.threads);
+    for (const auto& t : r.trajectories) bytes += t.bytes(r.plan.total);
+    orbits += r.orbits;
+  }
+  const MemoryLimit have = memory_limit();
+  if (bytes <= have.bytes) return;
+  char text[300];
+  std::snprintf(text, sizeof text,
+                ": %zu points, %zu orbits in all, need about %.3g GiB with their observers; %s "
+                "is %.3g GiB",
+                runs.size(), orbits, bytes / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
+  throw usage_error(config.where("sweep[0]") + text);
+}
+
+}  // namespace
+
+int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& options,
+              const std::string& started, const InterruptGuard& interrupt, std::ostream& log) {
+  const std::size_t points = sweep.points();
+  std::vector<Run> runs;
+  std::vector<InitialConditions> starts;
+  for (std::size_t k = 0; k < points; ++k) {
+    Config point = sweep.config_of(config, k);
+    std::unique_ptr<Model> model;
+    try {  // the point's own map and, for a shell, its own energy surface
+      model = map_of(point, chaos_options_of(point));
+      starts.push_back(InitialConditions::from_config(point, *model));
+    } catch (const Error& e) {
+      throw Error(e.code(), "[[sweep]] " + sweep.label(k) + ": " + e.what());
+    }
+    Run r = run_of(point, std::move(model), starts.back().orbits(), options);
+    if (r.checkpoint_every > 0)
+      throw usage_error(point.where("run", "checkpoint_every") +
+                        ": a sweep keeps no checkpoint (it runs to the end or stops with nothing "
+                        "written)");
+    r.kind = starts.back().kind();
+    r.rejects_points = starts.back().generator().rejects_points();
+    r.description = starts.back().description();
+    r.seed = starts.back().seed();
+    r.command_line = options.command_line;
+    r.started = started;
+    if (k == 0) point.reject_unknown();
+    runs.push_back(std::move(r));
+  }
+  check_memory(config, runs);
+  const Run& first = runs.front();
+
+  h5::AtomicFile output(first.path);
+  auto file = output.create_hdf5(first.deflate);
+  const OutputLock lock(first.path);
+  const auto groups = create_sweep_runs(file.root(), points);
+  std::vector<Ensemble> ensembles;
+  std::uint64_t rejected = 0;
+  std::size_t orbits = 0;
+  for (std::size_t k = 0; k < points; ++k) {
+    Run& r = runs[k];
+    ensembles.push_back(r.model->ensemble(r.orbits));
+    Ensemble& e = ensembles.back();
+    const auto initial =
+        r.per_orbit ? std::optional(groups[k].create_group("initial")) : std::nullopt;
+    if (initial) create_phase(*initial, r.orbits);
+    r.rejected = starts[k].start(
+        *r.model, e, r.start, r.plan.escape_bound,
+        [&](std::size_t from, std::span<const Phase> at) {
+          if (initial) write_phase_part(*initial, from, at);
+        },
+        orbits_per_part);
+    for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
+    rejected += r.rejected;
+    orbits += r.orbits;
+  }
+
+  // All points step together in segments (exact: a segmented run equals one call), doubled or
+  // halved to take 2 to 8 s; a signal is answered at a segment's end.
+  const RunPlan plan = first.plan;
+  const Execution x = first.x;
+  SelfSignal self_signal = SelfSignal::from_environment();
+  Progress progress(!options.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
+  std::vector<Observers> blanks;
+  for (const auto& r : runs) blanks.push_back(r.observers.empty_copy());
+  long long step = 0, length = 1;
+  do {
+    RunPlan segment = plan;
+    segment.first = step;
+    segment.last = self_signal.segment_end(step, std::min(plan.total, step + length));
+    std::vector<Observers> parts;
+    std::vector<SweepPart> work;
+    for (std::size_t k = 0; k < points; ++k) parts.push_back(blanks[k].empty_copy());
+    for (std::size_t k = 0; k < points; ++k)
+      work.push_back({runs[k].model.get(), &ensembles[k],
+                      runs[k].observers.empty() ? nullptr : &parts[k]});
+    const double t = progress.seconds();
+    advance_sweep(work, segment, x);
+    for (std::size_t k = 0; k < points; ++k)
+      if (!runs[k].observers.empty()) runs[k].observers.merge(std::move(parts[k]));
+    const double took = progress.seconds() - t;
+    step = segment.last;
+    progress.update(step);
+    if (step == plan.total) break;
+    self_signal.deliver_if_due(step);
+    if (interrupt.requested()) {
+      progress.end();
+      log << "qmaps: " << signal_name(interrupt.signal()) << " at step " << step << " of "
+          << plan.total << ": a sweep keeps no checkpoint; stopped, nothing was written\n";
+      return static_cast<int>(ExitCode::interrupted);
+    }
+    if (took < 2) length = std::min(2 * length, plan.total);
+    else if (took > 8 && length > 1) length /= 2;
+  } while (step < plan.total);
+  progress.end();
+  const double seconds = progress.seconds();
+
+  const std::string finished = utc_now();
+  std::vector<RunRecord> records;
+  for (std::size_t k = 0; k < points; ++k) {
+    runs[k].observers.finish();
+    records.push_back(record_of(runs[k], ensembles[k], 0, started, finished, options.command_line));
+  }
+  naming_failures(first.path, [&] {
+    write_sweep(file.root(), sweep, records);
+    file.close();
+  });
+  output.commit();
+
+  std::size_t escaped = 0;
+  for (const auto& e : ensembles) escaped += e.escaped();
+  const double rate = static_cast<double>(orbits) * static_cast<double>(plan.total) /
+                      (seconds > 0 ? seconds : 1e-300);
+  char line[512];
+  std::snprintf(line, sizeof line,
+                "qmaps: %s, sweep of %zu points, %zu orbits x %lld steps in %.3f s (%.3g "
+                "particle-steps/s, %s, %d thread%s), %zu escaped%s -> %s\n",
+                std::string(first.model->name()).c_str(), points, orbits, plan.total, seconds,
+                rate, std::string(isa_name(x.isa)).c_str(), x.threads, x.threads == 1 ? "" : "s",
+                escaped,
+                first.rejects_points ? (", " + std::to_string(rejected) + " rejected").c_str() : "",
+                first.path.c_str());
+  log << line;
+  return 0;
+}
+
+}  // namespace qmaps
