@@ -190,6 +190,27 @@ class Sweep(unittest.TestCase):
                 h = f[f"sweep/runs/{k}/invariants/H/initial"][()]
                 np.testing.assert_allclose(h, 0.6, rtol=1e-13, atol=0)
 
+    def test_the_plot_draws_the_parameter_plane(self):
+        out = self.dir / "plots"
+        r = subprocess.run([sys.executable, str(small_run.TOOLS / "qmaps-plot"),
+                            str(self.dir / f"sweep-{self.isas[0]}-1.h5"), "-o", str(out)],
+                           capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        image = out / f"sweep-{self.isas[0]}-1-sweep.png"
+        self.assertEqual(r.stdout.split(), [str(image)])
+        self.assertGreater(image.stat().st_size, 10000)
+
+    def test_info_lists_every_point(self):
+        r = run(self.dir, "info", f"sweep-{self.isas[0]}-1.h5")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("map:        flow, sweep of 4 points over beta/alpha, delta/alpha, 300 steps",
+                      r.stdout)
+        with h5py.File(self.dir / f"sweep-{self.isas[0]}-1.h5") as f:
+            fraction = f["sweep/chaotic_fraction"][()]
+        rows = [line.split() for line in r.stdout.splitlines()[3:]]
+        self.assertEqual([row[:3] for row in rows], [[str(k), str(b), str(d)] for k, (b, d) in enumerate(POINTS)])
+        self.assertEqual([float(row[5]) for row in rows], [float(f"{v:.3g}") for v in fraction])
+
     def refused(self, extra, *sets):
         d = pathlib.Path(tempfile.mkdtemp(dir=self.dir))
         (d / "c.toml").write_text(extra)
