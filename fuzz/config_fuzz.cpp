@@ -1,6 +1,6 @@
 // libFuzzer target: the configuration as `qmaps run` reads it. The input is a TOML text, then
 // after a NUL byte any number of `--set` assignments, one per line. Parsing, the overrides, the map
-// with its parameters, the observers and the initial-condition kind must either succeed or throw
+// with its parameters, a sweep's points, the observers and the initial-condition kind must either succeed or throw
 // qmaps::Error (exit 2 or 3): any other exception, a crash or a sanitizer report is a finding.
 #include <cstdint>
 #include <string>
@@ -8,7 +8,9 @@
 
 #include "core/error.hpp"
 #include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "ensembles/config/observer_config.hpp"
+#include "ensembles/config/sweep_config.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "kernels/catalogue.hpp"
 
@@ -30,6 +32,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& key : config.keys("map"))
       if (key != "name") params[key] = config.number("map", key);
     const auto model = make_model(config.string("map", "name"), params);
+    if (const auto sweep = Sweep::from_config(config, *model))  // each point's map, at most 64
+      for (std::size_t k = 0; k < sweep->points() && k < 64; ++k) map_of(sweep->config_of(config, k));
     const auto initial = InitialConditions::from_config(config, *model);
     // At most 4096 orbits and steps: the sections' slots stay small whatever the caps say.
     const long long steps = config.integer_or("run", "steps", 0);
