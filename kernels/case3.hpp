@@ -277,11 +277,12 @@ struct Case3 {
       active = active & ops::negate(settled1 & settled2);
     }
     const V none(0.0);
-    const Mask uphill = (slope1 > none) & (slope2 > none);
+    const Mask uphill1 = slope1 > none, uphill2 = slope2 > none;
+    const Mask uphill = uphill1 & uphill2;
     if (ops::all(uphill & ops::negate(active))) return none;
     const V on_branch = ops::select(uphill, none, V(double(EscapeReason::wrong_branch)));
-    const V flat = ops::select((slope1 == none) | (slope2 == none),
-                               V(double(EscapeReason::zero_derivative)), on_branch);
+    const Mask flat1 = slope1 == none, flat2 = slope2 == none;
+    const V flat = ops::select(flat1 | flat2, V(double(EscapeReason::zero_derivative)), on_branch);
     return ops::select(active, V(double(EscapeReason::no_convergence)), flat);
   }
 };

@@ -47,6 +47,15 @@ void Observers::merge(std::vector<Observers>&& partials) {
   }
 }
 
+void Observers::merge_at(const Observers& part, std::size_t first_orbit) {
+  for (std::size_t i = 0; i < densities.size(); ++i) densities[i].merge(part.densities[i]);
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    sections[i].merge(part.sections[i]);
+    for (const SectionPoint& p : part.sections[i].points->all())
+      sections[i].points->keep(first_orbit + static_cast<std::size_t>(p.orbit), p.step, p.x, p.y);
+  }
+}
+
 void Observers::finish() {
   for (auto& d : densities) d.finish();
   for (auto& s : sections) s.finish();

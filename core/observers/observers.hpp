@@ -25,6 +25,10 @@ struct Observers {
   Observers empty_copy() const;
   void merge(Observers&& partial);  // adds the partial's counts (the points are shared)
   void merge(std::vector<Observers>&& partials);  // the same, one after the other
+  // Adds the counts of `part`, which observed orbits numbered from 0 (a shard's), and keeps its
+  // section points as those of orbits first_orbit + i: parts merged in orbit order, finished,
+  // equal the observers of one run over all the orbits.
+  void merge_at(const Observers& part, std::size_t first_orbit);
   void finish();
 };
 

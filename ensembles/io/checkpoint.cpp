@@ -49,11 +49,14 @@ void write_checkpoint(const std::string& path, RunRecord record, const h5::Group
   write_run(root, record);
   root.attr("checkpoint_version", checkpoint_version);
   if (initial) copy_phase(*initial, root.create_group("initial"), record.ensemble.orbits);
-  if (record.observers)
-    for (const auto& s : record.observers->sections)
-      root.open_group("sections").open_group(s.name).write("kept", s.points->kept());
+  if (record.observers) write_kept(root, *record.observers);
   file.close();
   out.commit();
+}
+
+void write_kept(const h5::Group& root, const Observers& observers) {
+  for (const auto& s : observers.sections)
+    root.open_group("sections").open_group(s.name).write("kept", s.points->kept());
 }
 
 h5::File open_checkpoint(const std::string& path) {

@@ -22,6 +22,9 @@ inline constexpr const char* checkpoint_suffix = ".ckpt";
 // the run's /initial group, copied into the checkpoint.
 void write_checkpoint(const std::string& path, RunRecord record, const h5::Group* initial);
 
+// /sections/<name>/kept: the points each orbit keeps (a checkpoint's and a shard's).
+void write_kept(const h5::Group& root, const Observers& observers);
+
 // The checkpoint at `path`, opened for reading once it is known to be one this qmaps can resume.
 h5::File open_checkpoint(const std::string& path);
 // Fills `e` (laid out for the checkpoint's map and orbits) with the checkpoint's state.

@@ -283,6 +283,11 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   root.attr("started", run.started);
   root.attr("finished", run.finished);
   root.attr("sessions", run.sessions);
+  if (!run.shard.empty()) {
+    root.attr("shard", run.shard);
+    root.attr("shard_first", run.shard_first);
+    root.attr("orbits_total", run.orbits_total);
+  }
 
   const auto& inv_names = model.invariant_names();
   if (run.per_orbit) {

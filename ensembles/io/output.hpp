@@ -63,6 +63,9 @@ struct RunRecord {
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
   ChaosReport chaos{};
   const std::vector<Trajectory>* trajectories = nullptr;
+  // A shard's file (docs/cli.md): "k/K", and its orbits' place in the ensemble of orbits_total.
+  std::string shard{};
+  std::int64_t shard_first = 0, orbits_total = 0;
 };
 
 // One session of a run: its steps, path, threads, times and command line.

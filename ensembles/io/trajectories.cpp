@@ -33,6 +33,7 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
   t.orbit.clear();
   t.step.clear();
   t.values.assign(t.columns.size(), {});
+  if (t.orbits.empty()) return;  // a shard's trajectory of orbits all in other shards
   // Copies of the orbits, advanced together on the scalar reference path.
   Ensemble copy = model.ensemble(t.orbits.size());
   for (std::size_t j = 0; j < t.orbits.size(); ++j) {
@@ -88,6 +89,15 @@ void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& tr
     g.write("orbit", t.orbit);
     g.write("step", t.step);
     for (std::size_t k = 0; k < t.columns.size(); ++k) g.write(t.columns[k], t.values[k]);
+  }
+}
+
+void keep_orbits_in(std::vector<Trajectory>& trajectories, std::size_t first, std::size_t count) {
+  for (Trajectory& t : trajectories) {
+    std::vector<std::size_t> kept;
+    for (const std::size_t o : t.orbits)
+      if (o >= first && o < first + count) kept.push_back(o - first);
+    t.orbits = std::move(kept);
   }
 }
 

@@ -39,6 +39,9 @@ struct Trajectory {
 std::vector<std::string> trajectory_columns(const Model& model);
 std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
                                    std::size_t i);
+// Keeps, of each trajectory's orbits, those in [first, first + count), numbered from `first` (a
+// shard's): a trajectory may be left with none.
+void keep_orbits_in(std::vector<Trajectory>& trajectories, std::size_t first, std::size_t count);
 // Fills t's rows from the started ensemble e (at step 0), over plan.total steps.
 void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan);
 void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories);

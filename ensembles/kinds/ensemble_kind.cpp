@@ -6,7 +6,7 @@
 
 namespace qmaps {
 
-void EnsembleKind::continue_into(Ensemble&, double) const {
+void EnsembleKind::continue_into(Ensemble&, std::size_t, double) const {
   throw std::logic_error("continue_into: " + description() + " does not continue saved states");
 }
 

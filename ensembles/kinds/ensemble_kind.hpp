@@ -33,9 +33,10 @@ class EnsembleKind {
   // reports how many.
   virtual bool rejects_points() const { return false; }
   // Whether the orbits continue saved map states (a file's /final/state) instead of starting at
-  // their drawn points; then continue_into() starts every orbit of `e` in its state.
+  // their drawn points; then continue_into() starts orbit i of `e` in the state of orbit
+  // first + i.
   virtual bool continues() const { return false; }
-  virtual void continue_into(Ensemble& e, double escape_bound) const;
+  virtual void continue_into(Ensemble& e, std::size_t first, double escape_bound) const;
 };
 
 

@@ -96,15 +96,19 @@ Drawn FromFile::draw(std::size_t orbit) const {
   return {model_.phase_of(state)};
 }
 
-void FromFile::continue_into(Ensemble& e, double escape_bound) const {
-  model_.start_from_state(e, columns_, escape_bound);
-  for (std::size_t i = 0; i < orbits_; ++i) {
-    if (escape_step_[i] >= 0) {
+void FromFile::continue_into(Ensemble& e, std::size_t first, double escape_bound) const {
+  std::vector<std::vector<double>> columns;
+  for (const auto& c : columns_)
+    columns.emplace_back(c.begin() + static_cast<std::ptrdiff_t>(first),
+                         c.begin() + static_cast<std::ptrdiff_t>(first + e.orbits));
+  model_.start_from_state(e, columns, escape_bound);
+  for (std::size_t i = 0; i < e.orbits; ++i) {
+    if (escape_step_[first + i] >= 0) {
       e.escape_step[i] = 0;
-      e.escape_reason[i] = static_cast<std::uint8_t>(escape_reason_[i]);
+      e.escape_reason[i] = static_cast<std::uint8_t>(escape_reason_[first + i]);
     } else if (const auto why = model_.invalid_record(e, i); !why.empty()) {
-      throw Error(ExitCode::io, "'" + path_ + "': /final/state: orbit " + std::to_string(i) +
-                                    ": " + why);
+      throw Error(ExitCode::io, "'" + path_ + "': /final/state: orbit " +
+                                    std::to_string(first + i) + ": " + why);
     }
   }
 }

@@ -23,8 +23,9 @@ class FromFile final : public EnsembleKind {
   std::string description() const override;
   // group = "final": the orbits continue the file's states (continue_into()), not its points.
   bool continues() const override { return final_; }
-  // Starts every orbit of `e` in the file's state, the orbits escaped there escaped at step 0.
-  void continue_into(Ensemble& e, double escape_bound) const override;
+  // Starts orbit i of `e` in the file's state of orbit first + i, the orbits escaped there
+  // escaped at step 0.
+  void continue_into(Ensemble& e, std::size_t first, double escape_bound) const override;
 
  private:
   const Model& model_;

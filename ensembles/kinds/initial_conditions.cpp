@@ -87,16 +87,20 @@ InitialConditions InitialConditions::from_config(const Config& config, const Mod
 
 std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start rule,
                                        double escape_bound, const PointsSink& sink,
-                                       std::size_t part) const {
+                                       std::size_t part, std::size_t offset) const {
+  if (offset + e.orbits > orbits())
+    throw usage_error("orbits [" + std::to_string(offset) + ", " + std::to_string(offset + e.orbits) +
+                      ") are not in the ensemble of " + std::to_string(orbits()));
   const bool continues = generator_->continues();
-  if (continues) generator_->continue_into(e, escape_bound);
-  std::uint64_t rejected = generator_->rejected_up_front();
-  const std::size_t n = orbits();
+  if (continues) generator_->continue_into(e, offset, escape_bound);
+  // The candidates rejected once for all count with the ensemble's first orbit.
+  std::uint64_t rejected = offset == 0 ? generator_->rejected_up_front() : 0;
+  const std::size_t n = e.orbits;
   std::vector<Phase> points(std::min(n, part));
   for (std::size_t first = 0; first < n; first += part) {
     stop_if_interrupted("drawing the initial conditions");
     const auto some = std::span<Phase>(points).first(std::min(part, n - first));
-    rejected += generate(*generator_, first, some);
+    rejected += generate(*generator_, offset + first, some);
     sink(first, some);
     if (!continues) model.start_at(e, first, some, rule, escape_bound);
   }

@@ -45,13 +45,15 @@ class InitialConditions {
   std::uint64_t seed() const { return generator_->seed(); }
   std::string description() const { return generator_->description(); }
 
-  // Starts every orbit of `e` (model.ensemble(orbits())) at step 0, a part of `part` orbits at a
-  // time, so that no copy of all the points is ever held: each part's points are drawn, handed
-  // to `sink` (e.g. to write /initial) and started by the rule, or, for kind file with group
-  // final, the orbits continue the earlier run's exact state. Returns the candidates rejected
-  // (shell ensembles) and leaves `e` complete, padding filled.
+  // Starts every orbit i of `e` at step 0 as orbit offset + i of the ensemble (offset 0 and
+  // e.orbits = orbits(): all of it; else a shard's range), a part of `part` orbits at a time, so
+  // that no copy of all the points is ever held: each part's points are drawn, handed to `sink`
+  // (e.g. to write /initial; numbered within `e`) and started by the rule, or, for kind file with
+  // group final, the orbits continue the earlier run's exact state. Returns the candidates
+  // rejected (shell ensembles) and leaves `e` complete, padding filled.
   std::uint64_t start(const Model& model, Ensemble& e, Start rule, double escape_bound,
-                      const PointsSink& sink, std::size_t part = std::size_t{1} << 20) const;
+                      const PointsSink& sink, std::size_t part = std::size_t{1} << 20,
+                      std::size_t offset = 0) const;
 
  private:
   std::string kind_;

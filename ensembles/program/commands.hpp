@@ -12,10 +12,16 @@ struct RunOptions {
   std::string resume;             // its checkpoint, "<output>.ckpt"
   std::vector<std::string> sets;  // "section.key=value"
   std::string out;                // overrides [output] file when not empty
+  std::string shard;              // "k/K": only orbit range k of K, into a shard file
   int threads = 0;                // 0: all the cores OpenMP offers
   std::string simd = "auto";
   bool quiet = false;
   std::string command_line;
+};
+
+struct MergeOptions {
+  std::vector<std::string> shards;  // the shard files, in any order
+  std::string out;                  // the merged file
 };
 
 struct OrbitOptions {
@@ -59,5 +65,6 @@ int list_command(std::ostream& out);
 int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);
 int discover_command(const DiscoverOptions& options, std::ostream& out);
+int merge_command(const MergeOptions& options, std::ostream& log);
 
 }  // namespace qmaps

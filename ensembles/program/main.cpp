@@ -33,6 +33,16 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--simd", run.simd, "path: auto, scalar (the reference), sse2, avx2, avx512")
       ->capture_default_str();
   run_cmd->add_flag("--quiet", run.quiet, "no progress output");
+  run_cmd->add_option("--shard", run.shard,
+                      "k/K: run only orbit range k of K into a shard file (<output>.shard-k-of-K "
+                      "unless --out), for qmaps merge");
+
+  qmaps::MergeOptions merge;
+  auto* merge_cmd = app.add_subcommand(
+      "merge", "join the shard files of a run (qmaps run --shard k/K) into the run's file");
+  merge_cmd->add_option("shards", merge.shards, "every shard file of the run, in any order")
+      ->required();
+  merge_cmd->add_option("--out", merge.out, "the merged file")->required();
 
   qmaps::OrbitOptions orbit;
   auto* orbit_cmd = app.add_subcommand("orbit", "one orbit as CSV on stdout (the scalar reference path)");
@@ -109,6 +119,7 @@ int main(int argc, char** argv) {
       for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
       return qmaps::run_command(run, std::cerr);
     }
+    if (*merge_cmd) return qmaps::merge_command(merge, std::cerr);
     if (*orbit_cmd) return qmaps::orbit_command(orbit, std::cout, std::cerr);
     if (*info_cmd) return qmaps::info_command(info_path, std::cout);
     if (*check_cmd) return qmaps::check_command(check, std::cout);

@@ -88,6 +88,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   naming_failures(r.path, [&] {  // an incomplete file is never committed
     write_run(file.root(),
               record_of(r, e, first, session_started, utc_now(), options.command_line));
+    if (r.shard) write_kept(file.root(), r.observers);  // for qmaps merge
     file.close();
   });
   output.commit();
@@ -128,10 +129,17 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
   const auto root = checkpoint.root();
   try {
     const Config config = Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
-    const auto orbits = root.attr_int64("orbits");
+    // A shard's checkpoint resumes the shard: its range of the ensemble's orbits.
+    RunOptions resumed = options;
+    const bool shard = root.has_attr("shard");
+    if (shard) resumed.shard = root.attr_string("shard");
+    const auto orbits = root.attr_int64(shard ? "orbits_total" : "orbits");
     if (orbits <= 0) throw Error(ExitCode::io, "attribute orbits is " + std::to_string(orbits));
     Run r = run_of(config, map_of(config, chaos_options_of(config)),
-                   static_cast<std::size_t>(orbits), options);
+                   static_cast<std::size_t>(orbits), resumed);
+    if (static_cast<std::int64_t>(r.orbits) != root.attr_int64("orbits"))
+      throw Error(ExitCode::io, "attribute orbits is " + std::to_string(root.attr_int64("orbits")) +
+                                    "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
     r.path = path.substr(0, path.size() - suffix.size());
     r.kind = root.attr_string("ensemble");
     r.seed = static_cast<std::uint64_t>(root.attr_int64("seed"));
@@ -172,11 +180,15 @@ int run_command(const RunOptions& options, std::ostream& log) {
   const std::string started = utc_now();
   Config config = Config::load(options.config_path);
   for (const auto& s : options.sets) config.set(s);
-  if (!options.out.empty()) config.set("output.file=" + options.out);
+  // A shard's --out names its own file: the configuration keeps the whole run's output, which
+  // every shard of the run must share.
+  if (!options.out.empty() && options.shard.empty()) config.set("output.file=" + options.out);
 
   auto model = map_of(config, chaos_options_of(config));
-  if (const auto sweep = Sweep::from_config(config, *model))
+  if (const auto sweep = Sweep::from_config(config, *model)) {
+    if (!options.shard.empty()) throw usage_error("--shard splits a run's orbits, not a sweep's points");
     return run_sweep(config, *sweep, options, started, interrupt, log);
+  }
   const auto initial_conditions = InitialConditions::from_config(config, *model);
   Run r = run_of(config, std::move(model), initial_conditions.orbits(), options);
   r.kind = initial_conditions.kind();
@@ -200,7 +212,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
       [&](std::size_t first, std::span<const Phase> points) {
         if (initial) write_phase_part(*initial, first, points);
       },
-      orbits_per_part);
+      orbits_per_part, r.first);
   for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
   return execute(r, e, output, file, interrupt, options, log);
 }

@@ -79,8 +79,16 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
            const RunOptions& options) {
   Run r;
   r.model = std::move(model);
-  r.orbits = orbits;
-  check_memory(config, *r.model, orbits, 0);  // before the observers are made
+  r.orbits = r.total = orbits;
+  if (!options.shard.empty()) {
+    r.shard = Shard::parse(options.shard);
+    r.first = r.shard->first(orbits);
+    r.orbits = r.shard->size(orbits);
+    if (r.orbits == 0)
+      throw usage_error("--shard " + options.shard + ": the ensemble's " + std::to_string(orbits) +
+                        " orbits leave this shard none");
+  }
+  check_memory(config, *r.model, r.orbits, 0);  // before the observers are made
   try {
     r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
   } catch (const Error& e) {
@@ -105,15 +113,21 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
-  r.observers = observers_from_config(config, *r.model, orbits, r.plan.total);
+  r.observers = observers_from_config(config, *r.model, r.orbits, r.plan.total);
   r.trajectories = trajectories_from_config(config, *r.model, orbits, r.plan.total);
+  if (r.shard) keep_orbits_in(r.trajectories, r.first, r.orbits);
   double for_trajectories = 0;
   for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
-  check_memory(config, *r.model, orbits, r.observers.bytes(r.x.threads) + for_trajectories);
+  check_memory(config, *r.model, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories);
   r.image = invariant_image_from_config(config, *r.model);
   r.chaos = chaos_report_of(config);
 
   r.path = config.string("output", "file");
+  // A shard's file: --out, or the output's name with ".shard-k-of-K".
+  if (r.shard)
+    r.path = !options.out.empty() ? options.out
+                                  : r.path + ".shard-" + std::to_string(r.shard->index) + "-of-" +
+                                        std::to_string(r.shard->count);
   // Every name the run derives from the output's must be legal before the run starts: the
   // longest is the checkpoint's temporary, "<name>.ckpt.tmp-<pid>".
   const auto slash = r.path.rfind('/');
@@ -126,6 +140,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
                       std::to_string(NAME_MAX));
   if (r.path.empty()) throw usage_error(config.where("output", "file") + " must not be empty");
   r.per_orbit = config.boolean_or("output", "per_orbit", true);
+  r.per_orbit = r.per_orbit || r.shard.has_value();  // the merge needs every orbit's record
   const std::string compression = config.string_or("output", "compression", "none");
   if (compression != "none" && compression != "gzip")
     throw usage_error(config.where("output", "compression") + ": '" + compression +
@@ -153,7 +168,8 @@ RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                    r.sessions + session_line(session_first, e.step, r.x, session_started, now,
                                              session_command),
                    &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected,
-                   r.chaos, &r.trajectories};
+                   r.chaos, &r.trajectories, r.shard ? r.shard->name() : "",
+                   static_cast<std::int64_t>(r.first), static_cast<std::int64_t>(r.total)};
 }
 
 }  // namespace qmaps

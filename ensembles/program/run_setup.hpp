@@ -14,6 +14,7 @@
 #include "core/model.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/observer_config.hpp"
+#include "ensembles/config/shard.hpp"
 #include "ensembles/io/output.hpp"
 #include "ensembles/io/trajectories.hpp"
 #include "ensembles/program/commands.hpp"
@@ -30,7 +31,9 @@ double bytes_per_orbit(const Model& model);
 // A run as its resolved configuration and the command line describe it (the ensemble aside).
 struct Run {
   std::unique_ptr<Model> model;
-  std::size_t orbits = 0;
+  std::size_t orbits = 0;  // the orbits it runs: the ensemble's, or a shard's range of them
+  std::optional<Shard> shard;       // --shard k/K: orbits [first, first + orbits) of `total`
+  std::size_t first = 0, total = 0;
   Start start = Start::taylor;
   RunPlan plan;
   Execution x;
@@ -53,8 +56,9 @@ struct Run {
   std::chrono::steady_clock::time_point began = std::chrono::steady_clock::now();
 };
 
-// Reads everything of [run], [output], [chaos] and the observers' tables for `orbits` orbits of
-// `model`; every error names its key. The ensemble itself is the caller's.
+// Reads everything of [run], [output], [chaos] and the observers' tables for an ensemble of
+// `orbits` orbits of `model` (with --shard, for its range of them); every error names its key.
+// The ensemble itself is the caller's.
 Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
            const RunOptions& options);
 

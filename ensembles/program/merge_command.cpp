@@ -1,0 +1,216 @@
+// `qmaps merge SHARDS... --out FILE`: joins the shard files of one run (`qmaps run --shard k/K`)
+// into the file the whole run writes, dataset for dataset. The shards must belong together: the
+// same resolved configuration, the same K, each of 1 … K once, each complete. Every shard is
+// read as a checkpoint is (its state, escapes, invariant tracking, observers, trajectories) and
+// placed at its orbits' offset; the run's file is then written from the whole ensemble.
+#include <algorithm>
+#include <map>
+#include <optional>
+#include <ostream>
+#include <vector>
+
+#include "core/error.hpp"
+#include "core/io/h5.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
+#include "ensembles/config/observer_config.hpp"
+#include "ensembles/config/shard.hpp"
+#include "ensembles/io/checkpoint.hpp"
+#include "ensembles/io/output.hpp"
+#include "ensembles/io/output_lock.hpp"
+#include "ensembles/program/commands.hpp"
+#include "ensembles/program/run_setup.hpp"
+
+namespace qmaps {
+namespace {
+
+struct ShardFile {
+  std::string path;
+  h5::File file;
+  Shard shard;
+};
+
+Error refused(const std::string& what) { return Error(ExitCode::usage, "qmaps merge: " + what); }
+
+// The shards, checked to be every one of one run, ordered by k; any other set is refused.
+std::vector<ShardFile> shard_set(const std::vector<std::string>& paths) {
+  std::vector<ShardFile> shards;
+  for (const auto& path : paths) {
+    h5::File file = h5::File::open_read(path);
+    const auto root = file.root();
+    if (!root.has_attr("shard") || !root.has_attr("config_resolved"))
+      throw refused("'" + path + "' is not a shard file (it has no attribute shard)");
+    if (root.has_attr("checkpoint_version"))
+      throw refused("'" + path + "' is a shard's checkpoint: finish it with qmaps run --resume");
+    Shard shard;
+    try {
+      shard = Shard::parse(root.attr_string("shard"));
+    } catch (const Error& e) {
+      throw Error(ExitCode::io, "'" + path + "': attribute shard: " + e.what());
+    }
+    shards.push_back({path, std::move(file), shard});
+  }
+  const auto& first = shards.front();
+  const auto first_root = first.file.root();
+  for (const auto& s : shards) {
+    const auto root = s.file.root();
+    if (root.attr_string("config_resolved") != first_root.attr_string("config_resolved") ||
+        root.attr_int64("orbits_total") != first_root.attr_int64("orbits_total"))
+      throw refused("'" + s.path + "' is a shard of another run than '" + first.path +
+                    "' (their configurations differ)");
+    if (s.shard.count != first.shard.count)
+      throw refused("'" + s.path + "' is shard " + s.shard.name() + ", '" + first.path +
+                    "' shard " + first.shard.name() + ": not one split");
+  }
+  std::sort(shards.begin(), shards.end(),
+            [](const ShardFile& a, const ShardFile& b) { return a.shard.index < b.shard.index; });
+  for (std::size_t i = 1; i < shards.size(); ++i)
+    if (shards[i].shard.index == shards[i - 1].shard.index)
+      throw refused("'" + shards[i - 1].path + "' and '" + shards[i].path + "' are both shard " +
+                    shards[i].shard.name());
+  std::string missing;
+  std::size_t at = 0, count = 0;
+  for (std::size_t k = 1; k <= first.shard.count; ++k) {
+    if (at < shards.size() && shards[at].shard.index == k) {
+      ++at;
+      continue;
+    }
+    if (++count <= 10) missing += (missing.empty() ? "" : ", ") + std::to_string(k);
+  }
+  if (count > 0)
+    throw refused(std::to_string(count) + " of the " + std::to_string(first.shard.count) +
+                  " shards " + (count == 1 ? "is" : "are") + " missing: " + missing +
+                  (count > 10 ? ", ..." : ""));
+  return shards;
+}
+
+// Copies orbits [0, part.orbits) of `part` into `e` from orbit `first` on.
+void place(const Ensemble& part, Ensemble& e, std::size_t first) {
+  const auto copy = [&](const auto& from, auto& to) {
+    std::copy_n(from.span().begin(), part.orbits, to.span().begin() + static_cast<std::ptrdiff_t>(first));
+  };
+  for (std::size_t k = 0; k < e.state.size(); ++k) copy(part.state[k], e.state[k]);
+  copy(part.escape_step, e.escape_step);
+  copy(part.escape_reason, e.escape_reason);
+  for (std::size_t k = 0; k < e.invariant_initial.size(); ++k) {
+    copy(part.invariant_initial[k], e.invariant_initial[k]);
+    copy(part.invariant_max_drift[k], e.invariant_max_drift[k]);
+  }
+}
+
+}  // namespace
+
+int merge_command(const MergeOptions& options, std::ostream& log) {
+  std::vector<ShardFile> shards = shard_set(options.shards);
+  const auto head = shards.front().file.root();
+  const Config config = Config::parse(head.attr_string("config_resolved"),
+                                      shards.front().path + " (config_resolved)");
+  const auto total = head.attr_int64("orbits_total");
+  if (total <= 0) throw Error(ExitCode::io, "'" + shards.front().path + "': attribute orbits_total is " + std::to_string(total));
+  const auto orbits = static_cast<std::size_t>(total);
+  RunOptions whole;
+  whole.threads = 1;
+  whole.simd = "scalar";
+  Run r = run_of(config, map_of(config, chaos_options_of(config)), orbits, whole);
+  r.path = options.out;
+  r.kind = head.attr_string("ensemble");
+  r.seed = static_cast<std::uint64_t>(head.attr_int64("seed"));
+  r.description = head.attr_string("ensemble_description");
+  r.config_text = head.attr_string("config");
+  r.started = head.attr_string("started");
+  r.command_line = head.attr_string("command_line");
+
+  h5::AtomicFile output(r.path);
+  auto file = output.create_hdf5(r.deflate);
+  const OutputLock lock(r.path);
+  const auto initial = r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
+  if (initial) create_phase(*initial, orbits);
+
+  Ensemble e = r.model->ensemble(orbits);
+  // Each shard's trajectories (its orbits of each), and where each orbit's rows are.
+  std::vector<std::vector<Trajectory>> parts;
+  std::vector<std::map<std::size_t, std::pair<std::size_t, std::vector<std::size_t>>>> rows_of(
+      r.trajectories.size());
+  std::string finished;
+  for (const ShardFile& s : shards) {
+    const auto root = s.file.root();
+    const std::size_t first = s.shard.first(orbits), n = s.shard.size(orbits);
+    try {
+      if (root.attr_int64("orbits") != static_cast<std::int64_t>(n) ||
+          root.attr_int64("shard_first") != static_cast<std::int64_t>(first))
+        throw Error(ExitCode::io, "its orbits are not shard " + s.shard.name() + "'s " +
+                                      std::to_string(first) + " to " + std::to_string(first + n - 1));
+      Ensemble part = r.model->ensemble(n);
+      read_ensemble(root, *r.model, part);
+      if (part.step != r.plan.total)
+        throw Error(ExitCode::io, "it stopped at step " + std::to_string(part.step) + " of " +
+                                      std::to_string(r.plan.total));
+      place(part, e, first);
+      Observers observers = observers_from_config(config, *r.model, n, r.plan.total);
+      restore_observers(root, observers);
+      r.observers.merge_at(observers, first);
+      std::vector<Trajectory> trajectories = r.trajectories;
+      keep_orbits_in(trajectories, first, n);
+      read_trajectories(root, trajectories, r.plan.total);
+      for (std::size_t t = 0; t < trajectories.size(); ++t)
+        for (std::size_t row = 0; row < trajectories[t].orbit.size(); ++row) {
+          const auto o = trajectories[t].orbit[row];
+          if (o < 0 || static_cast<std::size_t>(o) >= n)
+            throw Error(ExitCode::io, "/trajectories/" + trajectories[t].name + " has a row of orbit " +
+                                          std::to_string(o) + ", not one of its " + std::to_string(n));
+          auto& at = rows_of[t][first + static_cast<std::size_t>(o)];
+          at.first = parts.size();
+          at.second.push_back(row);
+        }
+      parts.push_back(std::move(trajectories));
+      if (initial) {
+        const auto from = root.open_group("initial");
+        std::vector<Phase> points(std::min(n, orbits_per_part));
+        for (std::size_t i = 0; i < n; i += orbits_per_part) {
+          const auto some = std::span<Phase>(points).first(std::min(orbits_per_part, n - i));
+          read_phase_part(from, i, some);
+          write_phase_part(*initial, first + i, some);
+        }
+      }
+      r.rejected += static_cast<std::uint64_t>(root.attr_int64("rejected"));
+      r.sessions += root.attr_string("sessions");
+      finished = std::max(finished, root.attr_string("finished"));
+    } catch (const Error& failure) {
+      if (failure.code() != ExitCode::io) throw;
+      throw Error(ExitCode::io, "'" + s.path + "': " + failure.what());
+    }
+  }
+  e.step = r.plan.total;
+  e.fill_padding();
+  r.observers.finish();
+  // Each trajectory's rows orbit by orbit, in its configured order, as one run records them.
+  for (std::size_t t = 0; t < r.trajectories.size(); ++t) {
+    Trajectory& whole_t = r.trajectories[t];
+    whole_t.values.assign(whole_t.columns.size(), {});
+    for (const std::size_t o : whole_t.orbits) {
+      const auto found = rows_of[t].find(o);
+      if (found == rows_of[t].end()) continue;  // escaped at step 0: no row
+      const Trajectory& from = parts[found->second.first][t];
+      for (const std::size_t row : found->second.second) {
+        whole_t.orbit.push_back(static_cast<std::int64_t>(o));
+        whole_t.step.push_back(from.step[row]);
+        for (std::size_t c = 0; c < whole_t.columns.size(); ++c)
+          whole_t.values[c].push_back(from.values[c][row]);
+      }
+    }
+  }
+
+  naming_failures(r.path, [&] {
+    RunRecord record = record_of(r, e, 0, r.started, finished, r.command_line);
+    record.sessions = r.sessions;  // the shards' sessions: the merge steps nothing
+    record.finished = finished;
+    write_run(file.root(), record);
+    file.close();
+  });
+  output.commit();
+  log << "qmaps: merged " << shards.size() << " shards, " << orbits << " orbits x "
+      << r.plan.total << " steps, " << e.escaped() << " escaped -> " << r.path << '\n';
+  return 0;
+}
+
+}  // namespace qmaps
