@@ -66,12 +66,12 @@ std::map<std::string, std::vector<char>> datasets(const std::string& path) {
   return ::testing::AssertionSuccess() << x.size() << " datasets";
 }
 
-// The Suris preset with its observers, chaos indicators and a trajectory, 10000 orbits × 3000
-// steps, some of them escaping.
+// The Suris preset with its observers, chaos indicators and a trajectory, 5000 orbits × 3000
+// steps, a fifth of them escaping (beyond |q| = 0.6).
 std::string config_text(const std::string& output) {
   std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/suris.toml");
-  text = with_line(text, "orbits = ", "orbits = 10000");
-  text = with_line(text, "steps = ", "steps = 3000\nescape_bound = 0.9");
+  text = with_line(text, "orbits = ", "orbits = 5000");
+  text = with_line(text, "steps = ", "steps = 3000\nescape_bound = 0.6");
   text += "\n[chaos]\n\n[[trajectory]]\nname = \"some\"\norbits = [3, 1, 4159]\nevery = 100\n";
   return with_line(text, "file = ", "file = \"" + output + "\"");
 }
