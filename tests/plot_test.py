@@ -120,14 +120,15 @@ class PlotTool(unittest.TestCase):
         counts = self.loaded["histograms/q1q2/counts"]
         self.assertIsInstance(image.norm, matplotlib.colors.LogNorm)
         np.testing.assert_array_equal(image.get_array().filled(0), counts.T)
-        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("q1", "q2"))
+        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("$q_{1}$", "$q_{2}$"))
         self.assertEqual(tuple(image.get_extent()), (-1.0, 1.0, -1.0, 1.0))
+        self.assertEqual(ax.get_aspect(), 1.0, "both axes are coordinates: equal aspect")
 
     def test_one_dimensional_histogram_as_steps(self):
         ax = self.axes_of("histogram-p1")
         steps = ax.patches[-1]
         np.testing.assert_array_equal(steps.get_data().values, self.loaded["histograms/p1/counts"])
-        self.assertEqual(ax.get_xlabel(), "p1")
+        self.assertEqual(ax.get_xlabel(), "$p_{1}$")
         attrs = self.loaded["histograms/p1"].attrs
         notes = " ".join(t.get_text() for t in ax.texts)
         self.assertIn(f"underflow {attrs['underflow']}, overflow {attrs['overflow']}", notes)
@@ -141,7 +142,8 @@ class PlotTool(unittest.TestCase):
                                       np.column_stack([g.datasets["x"], g.datasets["y"]]))
         np.testing.assert_array_equal(dots.get_array(),
                                       self.loaded["invariants/H/initial"][g.datasets["orbit"]])
-        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("q1", "p1"))
+        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("$q_{1}$", "$p_{1}$"))
+        self.assertEqual(ax.get_aspect(), 1.0, "both axes are coordinates: equal aspect")
 
     def test_section_points_coloured_by_a_chaos_indicator(self):
         g = self.loaded["sections/q2both"]
@@ -154,6 +156,69 @@ class PlotTool(unittest.TestCase):
                 dict(plot.items(self.loaded, name))["section-q2both"](ax)
                 np.testing.assert_array_equal(ax.collections[0].get_array(),
                                               values[g.datasets["orbit"]])
+
+    def test_section_points_coloured_by_orbit(self):
+        g = self.loaded["sections/q2both"]
+        fig = plt.figure()
+        self.addCleanup(plt.close, fig)
+        ax = fig.add_subplot()
+        dict(plot.items(self.loaded, "orbit"))["section-q2both"](ax)
+        np.testing.assert_array_equal(ax.collections[0].get_array(), g.datasets["orbit"] % 20)
+
+    def test_range_auto_spans_the_data_and_a_cut_range_says_so(self):
+        g = self.loaded["sections/q2both"]
+        x, y = g.datasets["x"], g.datasets["y"]
+        fig = plt.figure()
+        self.addCleanup(plt.close, fig)
+        ax = fig.add_subplot()
+        dict(plot.items(self.loaded, "H", auto=True))["section-q2both"](ax)
+        low, high = ax.get_xlim()
+        self.assertLessEqual(low, x.min())
+        self.assertGreaterEqual(high, x.max())
+        self.assertLess(high - low, 1.1 * (x.max() - x.min()) + 1e-12)
+        h = self.axes_of("histogram-q1q2")  # the configured range
+        self.assertEqual(h.get_xlim(), (-1.0, 1.0))
+        fig = plt.figure()
+        self.addCleanup(plt.close, fig)
+        ax = fig.add_subplot()
+        dict(plot.items(self.loaded, "H", auto=True))["histogram-q1q2"](ax)
+        counts = self.loaded["histograms/q1q2/counts"]
+        edges = self.loaded["histograms/q1q2/x_edges"]
+        occupied = np.nonzero(counts.any(axis=1))[0]
+        self.assertEqual(ax.get_xlim(), (edges[occupied[0]], edges[occupied[-1] + 1]))
+        # A range that cuts points: the picture says how many.
+        cut = plot.qmaps_h5.load(self.path)
+        section = cut["sections/q2both"]
+        section.datasets["x_edges"] = np.linspace(-0.1, 0.1, 65)
+        fig = plt.figure()
+        self.addCleanup(plt.close, fig)
+        ax = fig.add_subplot()
+        dict(plot.items(cut, "H"))["section-q2both"](ax)
+        outside = int(((x < -0.1) | (x > 0.1)).sum())
+        self.assertGreater(outside, 0)
+        self.assertTrue(any(f"{outside} outside the configured range" in t.get_text()
+                            for t in ax.texts))
+
+    def test_symbols_for_coordinates_invariants_and_parameters(self):
+        for name, written in (("q1", "$q_{1}$"), ("p2", "$p_{2}$"), ("H", "$H$"), ("I1", "$I_{1}$"),
+                              ("I_case4", r"$I^{(\mathrm{IV})}$"), ("alpha", r"$\alpha$"),
+                              ("gamma11", r"$\gamma_{11}$"), ("megno", "megno"), ("K+", "K+")):
+            self.assertEqual(plot.symbol(name), written)
+        title = plot.run_title(self.loaded, 200)
+        self.assertIn(r"$\alpha$ = 0.9", title)
+
+    def test_svg_at_the_default_dpi(self):
+        out = self.dir / "svg"
+        status, stdout, err = run_main(self.path, "-o", out, "--format", "svg")
+        self.assertEqual(status, 0, err)
+        self.assertEqual(len(stdout.split()), len(KINDS) + 1)
+        for p in out.iterdir():
+            self.assertIn(b"<svg", p.read_bytes()[:400], p.name)
+        png = self.dir / "png200"
+        status, _, err = run_main(self.path, "-o", png)
+        self.assertEqual(status, 0, err)
+        pixels = matplotlib.image.imread(png / "run-drift.png")
+        self.assertEqual(pixels.shape[:2], (960, 1280))  # 4.8 x 6.4 in at 200 dpi
 
     def test_capped_section_shows_its_density(self):
         g = self.loaded["sections/q1up"]
@@ -190,7 +255,7 @@ class PlotTool(unittest.TestCase):
         image = ax.get_images()[0]
         np.testing.assert_array_equal(image.get_array().filled(0),
                                       self.loaded["invariants/image/counts"].T)
-        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("H (initial)", "I1 (initial)"))
+        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("$H$ (initial)", "$I_{1}$ (initial)"))
 
     def test_bad_input_is_a_clear_error_and_writes_nothing(self):
         text = self.dir / "text.h5"
@@ -204,9 +269,9 @@ class PlotTool(unittest.TestCase):
                 ([text], 3, "text.h5: not an HDF5 file"),
                 ([foreign], 3, "foreign.h5: not a qmaps run"),
                 ([self.path, "--format", "gif"], 2, "argument --format: invalid choice: 'gif'"),
-                ([self.path, "--color-by", "K"], 2, "--color-by K: the run's invariants are H, "
-                                                    "I1, I2; its chaos indicators fli, gali_2, "
-                                                    "gali_4, lyapunov")):
+                ([self.path, "--color-by", "K"], 2, "--color-by K: not orbit, and the run's "
+                                                    "invariants are H, I1, I2; its chaos "
+                                                    "indicators fli, gali_2, gali_4, lyapunov")):
             with self.subTest(message=message):
                 got, stdout, stderr = run_main(*args, "-o", out)
                 self.assertEqual(got, status, stderr)

@@ -188,7 +188,8 @@ DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
       ++d.zero;
       continue;
     }
-    const double x = std::log10(drift / std::fabs(e.invariant_initial[k][i]));
+    const double scale = std::fabs(e.invariant_initial[k][i]);  // absolute where I_0 = 0
+    const double x = std::log10(scale > 0 ? drift / scale : drift);
     d.histogram.add(&x);
   }
   return d;

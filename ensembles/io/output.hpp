@@ -85,7 +85,8 @@ void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> poi
 // Copies the phase datasets of `from` (n orbits) into new ones of `to`, by parts.
 void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n);
 
-// The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k:
+// The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k
+// (the absolute drift where I_0 = 0, as qmaps info and check report it):
 // bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins).
 struct DriftHistogram {
   Histogram histogram;
