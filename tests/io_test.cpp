@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include "ensembles/config/config.hpp"
 #include "core/error.hpp"
 #include "core/io/h5.hpp"
@@ -296,6 +299,33 @@ TEST(IoAtomicFile, CommitRenamesTemporary) {
   }
   EXPECT_TRUE(fs::exists(path));  // the destructor leaves a committed file alone
   EXPECT_EQ(h5::File::open_read(path).root().attr_int64("a"), 42);
+}
+
+// A process that ends right after the commit, its groups still open (as a run ended by SIGPIPE
+// while printing its summary), leaves the committed file complete: close() closed it.
+TEST(IoAtomicFile, CommittedFileIsCompleteWhileItsGroupsAreStillOpen) {
+  TempDir dir;
+  const std::string path = dir / "x.h5";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    h5::AtomicFile out(path);
+    auto file = out.create_hdf5();
+    const auto group = file.root().create_group("g");
+    const std::vector<double> values(100000, 0.25);
+    group.write("v", values);
+    group.attr("n", std::int64_t{7});
+    file.close();
+    out.commit();
+    _exit(0);  // no destructor: `group` never closes
+  }
+  int status = 0;
+  ASSERT_EQ(waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  const auto g = h5::File::open_read(path).root().open_group("g");
+  EXPECT_EQ(g.attr_int64("n"), 7);
+  const auto v = g.read_doubles("v", 100000);
+  EXPECT_TRUE(std::all_of(v.begin(), v.end(), [](double x) { return x == 0.25; }));
 }
 
 TEST(IoAtomicFile, FailedCommitIsAnIoError) {

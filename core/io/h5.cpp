@@ -319,8 +319,21 @@ std::vector<std::string> Group::attr_names() const {
   return out;
 }
 
+namespace {
+
+// A new file whose close() closes it whatever groups and datasets of it are still open (they
+// are closed with it): a file is complete on disk, its errors reported, when close() returns,
+// and not only when the last of its groups goes.
+hid_t create_file(const std::string& path) {
+  const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+  if (access.id() < 0 || H5Pset_fclose_degree(access.id(), H5F_CLOSE_STRONG) < 0) return -1;
+  return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
+}
+
+}  // namespace
+
 File File::create(const std::string& path) {
-  const hid_t id = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  const hid_t id = create_file(path);
   if (id < 0) throw Error(ExitCode::io, "cannot create output file '" + path + "'");
   return File(Handle(id, H5Fclose), path);
 }
@@ -380,7 +393,8 @@ AtomicFile::AtomicFile(std::string path)
 }
 
 File AtomicFile::create_hdf5(int deflate) const {
-  const hid_t id = H5Fcreate(temporary_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  errno = 0;
+  const hid_t id = create_file(temporary_);
   if (id < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
