@@ -53,8 +53,14 @@ TEST(Presets, EachRunsSmallAndWritesItsObservers) {
     if (preset.entries("sweep") > 0) continue;  // the scans: below
     const std::string kind = preset.string_or("ensemble", "kind", "box");
     const bool grid = kind == "grid" || preset.string_or("ensemble", "sampling", "") == "grid";
+    // A grid keeps its shape, each axis cut to at most 6 points.
+    std::string points = "ensemble.points=[";
+    if (grid)
+      for (const auto n : preset.range_or_integer("ensemble", "points"))
+        points += (points.back() == '[' ? "" : ", ") + std::to_string(std::min<std::int64_t>(n, 6));
+    points += "]";
     TempDir dir;
-    const Result r = run({"run", path, "--set", grid ? "ensemble.points=6" : "ensemble.orbits=300",
+    const Result r = run({"run", path, "--set", grid ? points : "ensemble.orbits=300",
                           "--set", "run.steps=300", "--out", "small.h5", "--quiet"},
                          dir);
     ASSERT_EQ(r.status, 0) << r.err;
@@ -74,8 +80,8 @@ TEST(Presets, EachRunsSmallAndWritesItsObservers) {
       expect_mostly_inside(section, name);
       EXPECT_GT(testing::all_int64(section, "orbit").size(), 0u) << name;
     }
-    ASSERT_TRUE(preset.has("invariant_image", "x"));
-    expect_mostly_inside(root.open_group("invariants").open_group("image"), "invariant image");
+    if (preset.has("invariant_image", "x"))
+      expect_mostly_inside(root.open_group("invariants").open_group("image"), "invariant image");
   }
 }
 
