@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/escape.hpp"
@@ -77,32 +78,35 @@ h5::File open_checkpoint(const std::string& path) {
   return file;
 }
 
-void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e) {
-  const std::size_t n = e.orbits;
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, std::size_t first,
+                   std::size_t count) {
+  const std::size_t n = count ? count : e.orbits;
+  if (first + n > e.orbits) throw std::logic_error("read_ensemble: orbits beyond the ensemble");
   const auto state = root.open_group("final").open_group("state");
   const auto names = model.state_names();
   for (std::size_t k = 0; k < names.size(); ++k)
-    read_column(state, std::string(names[k]), e.state[k].span().first(n));
+    read_column(state, std::string(names[k]), e.state[k].span().subspan(first, n));
   e.step = state.attr_int64("step");
   const auto escape = root.open_group("escape");
-  read_column(escape, "step", e.escape_step.span().first(n));
-  read_column(escape, "reason", e.escape_reason.span().first(n));
+  read_column(escape, "step", e.escape_step.span().subspan(first, n));
+  read_column(escape, "reason", e.escape_reason.span().subspan(first, n));
   const auto invariants = root.open_group("invariants");
   const auto& inv_names = model.invariant_names();
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
     const auto g = invariants.open_group(inv_names[k]);
-    read_column(g, "initial", e.invariant_initial[k].span().first(n));
-    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().first(n));
+    read_column(g, "initial", e.invariant_initial[k].span().subspan(first, n));
+    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().subspan(first, n));
   }
   // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and finite states,
   // invariants and drifts for the orbits that have not escaped.
   if (e.step < 0) throw bad(state, "step " + std::to_string(e.step));
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t j = 0; j < n; ++j) {
+    const std::size_t i = first + j;
     const std::int64_t at = e.escape_step[i];
     if (at < -1 || at > e.step)
-      throw bad(escape, "orbit " + std::to_string(i) + " escaped at step " + std::to_string(at));
+      throw bad(escape, "orbit " + std::to_string(j) + " escaped at step " + std::to_string(at));
     if (at >= 0 && (e.escape_reason[i] == 0 || e.escape_reason[i] > last_escape_reason))
-      throw bad(escape, "orbit " + std::to_string(i) + " has escape reason " +
+      throw bad(escape, "orbit " + std::to_string(j) + " has escape reason " +
                             std::to_string(e.escape_reason[i]));
     if (at >= 0) continue;
     bool finite = true;
@@ -111,10 +115,10 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e) {
       finite = finite && std::isfinite(e.invariant_initial[k][i]) &&
                std::isfinite(e.invariant_max_drift[k][i]) && e.invariant_max_drift[k][i] >= 0;
     if (!finite)
-      throw bad(root, "orbit " + std::to_string(i) +
+      throw bad(root, "orbit " + std::to_string(j) +
                           " has not escaped but holds a value that is not finite (or a negative drift)");
     if (const auto why = model.invalid_record(e, i); !why.empty())
-      throw bad(state, "orbit " + std::to_string(i) + ": " + why);
+      throw bad(state, "orbit " + std::to_string(j) + ": " + why);
   }
   e.fill_padding();
 }

@@ -27,8 +27,11 @@ void write_kept(const h5::Group& root, const Observers& observers);
 
 // The checkpoint at `path`, opened for reading once it is known to be one this qmaps can resume.
 h5::File open_checkpoint(const std::string& path);
-// Fills `e` (laid out for the checkpoint's map and orbits) with the checkpoint's state.
-void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e);
+// Fills orbits [first, first + count) of `e` (laid out for the checkpoint's map) with the
+// checkpoint's `count` orbits (by default all of `e`: a checkpoint's own ensemble; else a shard's
+// place in the whole run's), and e.step with its step.
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, std::size_t first = 0,
+                   std::size_t count = 0);
 // Sets the counts and points of `o` (built from the checkpoint's configuration) to the checkpoint's.
 void restore_observers(const h5::Group& root, Observers& o);
 

@@ -4,6 +4,7 @@
 // read as a checkpoint is (its state, escapes, invariant tracking, observers, trajectories) and
 // placed at its orbits' offset; the run's file is then written from the whole ensemble.
 #include <algorithm>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <ostream>
@@ -11,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/io/h5.hpp"
+#include "core/memory_limit.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/config/observer_config.hpp"
@@ -84,18 +86,20 @@ std::vector<ShardFile> shard_set(const std::vector<std::string>& paths) {
   return shards;
 }
 
-// Copies orbits [0, part.orbits) of `part` into `e` from orbit `first` on.
-void place(const Ensemble& part, Ensemble& e, std::size_t first) {
-  const auto copy = [&](const auto& from, auto& to) {
-    std::copy_n(from.span().begin(), part.orbits, to.span().begin() + static_cast<std::ptrdiff_t>(first));
-  };
-  for (std::size_t k = 0; k < e.state.size(); ++k) copy(part.state[k], e.state[k]);
-  copy(part.escape_step, e.escape_step);
-  copy(part.escape_reason, e.escape_reason);
-  for (std::size_t k = 0; k < e.invariant_initial.size(); ++k) {
-    copy(part.invariant_initial[k], e.invariant_initial[k]);
-    copy(part.invariant_max_drift[k], e.invariant_max_drift[k]);
-  }
+// Refuses, before reading, a merge that cannot fit: the whole run's memory and, besides it, the
+// section points of the largest shard while they are placed.
+void check_memory(const Run& r, std::size_t orbits, std::size_t largest) {
+  const double padded = static_cast<double>(orbits + Ensemble::padding);
+  const double bytes = padded * bytes_per_orbit(*r.model) + r.observers.bytes(1) *
+                       (1 + static_cast<double>(largest) / static_cast<double>(orbits));
+  const MemoryLimit have = memory_limit();
+  if (bytes <= have.bytes) return;
+  char text[300];
+  std::snprintf(text, sizeof text,
+                "%zu orbits, with the largest shard's section points, need about %.3g GiB; %s is "
+                "%.3g GiB",
+                orbits, bytes / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
+  throw refused(text);
 }
 
 }  // namespace
@@ -112,6 +116,9 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   whole.threads = 1;
   whole.simd = "scalar";
   Run r = run_of(config, map_of(config, chaos_options_of(config)), orbits, whole);
+  std::size_t largest = 0;
+  for (const auto& s : shards) largest = std::max(largest, s.shard.size(orbits));
+  check_memory(r, orbits, largest);
   r.path = options.out;
   r.kind = head.attr_string("ensemble");
   r.seed = static_cast<std::uint64_t>(head.attr_int64("seed"));
@@ -140,12 +147,10 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
           root.attr_int64("shard_first") != static_cast<std::int64_t>(first))
         throw Error(ExitCode::io, "its orbits are not shard " + s.shard.name() + "'s " +
                                       std::to_string(first) + " to " + std::to_string(first + n - 1));
-      Ensemble part = r.model->ensemble(n);
-      read_ensemble(root, *r.model, part);
-      if (part.step != r.plan.total)
-        throw Error(ExitCode::io, "it stopped at step " + std::to_string(part.step) + " of " +
+      read_ensemble(root, *r.model, e, first, n);
+      if (e.step != r.plan.total)
+        throw Error(ExitCode::io, "it stopped at step " + std::to_string(e.step) + " of " +
                                       std::to_string(r.plan.total));
-      place(part, e, first);
       Observers observers = observers_from_config(config, *r.model, n, r.plan.total);
       restore_observers(root, observers);
       r.observers.merge_at(observers, first);
