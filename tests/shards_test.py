@@ -7,7 +7,6 @@ nothing written."""
 import os
 import pathlib
 import random
-import subprocess
 import sys
 import tempfile
 import unittest
@@ -24,9 +23,7 @@ every = 10
 """
 
 
-def run(directory, *args, env=None):
-    return subprocess.run([str(small_run.BINARY), *args], capture_output=True, text=True,
-                          cwd=directory, env={**os.environ, **(env or {})})
+run = small_run.qmaps
 
 
 def datasets(group):

@@ -44,6 +44,13 @@ every = 50
 """
 
 
+def qmaps(directory, *args, env=None):
+    """The binary run in `directory` with `args` (and `env` added to the environment), its
+    output captured as text."""
+    return subprocess.run([str(BINARY), *map(str, args)], capture_output=True, text=True,
+                          cwd=directory, env={**os.environ, **(env or {})})
+
+
 def small_run(directory, orbits=2000, steps=200, name="small.h5"):
     """Runs the preset plus EXTRA_OBSERVERS with `orbits` and `steps`; returns the file's path."""
     directory = pathlib.Path(directory)

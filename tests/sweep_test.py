@@ -83,9 +83,7 @@ POINTS = [(1, 2), (1, 6), (8, 2), (8, 6)]  # (β/α, δ/α), the first axis slow
 REQUIRED = [i for i in os.environ.get("QMAPS_REQUIRE_ISAS", "").replace(";", ",").split(",") if i]
 
 
-def run(directory, *args, env=None):
-    return subprocess.run([str(small_run.BINARY), *args], capture_output=True, text=True,
-                          cwd=directory, env={**os.environ, **(env or {})})
+run = small_run.qmaps
 
 
 def datasets(group):

@@ -89,9 +89,8 @@ std::vector<ShardFile> shard_set(const std::vector<std::string>& paths) {
 // Refuses, before reading, a merge that cannot fit: the whole run's memory and, besides it, the
 // section points of the largest shard while they are placed.
 void check_memory(const Run& r, std::size_t orbits, std::size_t largest) {
-  const double padded = static_cast<double>(orbits + Ensemble::padding);
-  const double bytes = padded * bytes_per_orbit(*r.model) + r.observers.bytes(1) *
-                       (1 + static_cast<double>(largest) / static_cast<double>(orbits));
+  const double bytes = memory_of(r) + r.observers.bytes(r.x.threads) *
+                                          static_cast<double>(largest) / static_cast<double>(orbits);
   const MemoryLimit have = memory_limit();
   if (bytes <= have.bytes) return;
   char text[300];
@@ -120,12 +119,7 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   for (const auto& s : shards) largest = std::max(largest, s.shard.size(orbits));
   check_memory(r, orbits, largest);
   r.path = options.out;
-  r.kind = head.attr_string("ensemble");
-  r.seed = static_cast<std::uint64_t>(head.attr_int64("seed"));
-  r.description = head.attr_string("ensemble_description");
-  r.config_text = head.attr_string("config");
-  r.started = head.attr_string("started");
-  r.command_line = head.attr_string("command_line");
+  read_provenance(head, r);
 
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);

@@ -141,14 +141,9 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       throw Error(ExitCode::io, "attribute orbits is " + std::to_string(root.attr_int64("orbits")) +
                                     "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
     r.path = path.substr(0, path.size() - suffix.size());
-    r.kind = root.attr_string("ensemble");
-    r.seed = static_cast<std::uint64_t>(root.attr_int64("seed"));
-    r.description = root.attr_string("ensemble_description");
+    read_provenance(root, r);
     r.rejected = static_cast<std::uint64_t>(root.attr_int64("rejected"));
     r.rejects_points = r.rejected > 0;  // the kind itself is not rebuilt on resumption
-    r.config_text = root.attr_string("config");
-    r.command_line = root.attr_string("command_line");
-    r.started = root.attr_string("started");
     r.sessions = root.attr_string("sessions");
 
     h5::AtomicFile output(r.path);

@@ -160,6 +160,24 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   return r;
 }
 
+void read_provenance(const h5::Group& root, Run& r) {
+  r.kind = root.attr_string("ensemble");
+  r.seed = static_cast<std::uint64_t>(root.attr_int64("seed"));
+  r.description = root.attr_string("ensemble_description");
+  r.config_text = root.attr_string("config");
+  r.command_line = root.attr_string("command_line");
+  r.started = root.attr_string("started");
+}
+
+double memory_of(const Run& r) {
+  const std::size_t padded =
+      (r.orbits + Ensemble::padding - 1) / Ensemble::padding * Ensemble::padding;
+  double bytes = static_cast<double>(padded) * bytes_per_orbit(*r.model) +
+                 r.observers.bytes(r.x.threads);
+  for (const auto& t : r.trajectories) bytes += t.bytes(r.plan.total);
+  return bytes;
+}
+
 RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                     const std::string& session_started, const std::string& now,
                     const std::string& session_command) {

@@ -62,6 +62,15 @@ struct Run {
 Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
            const RunOptions& options);
 
+// The provenance an earlier session wrote into a file of the run (a checkpoint or a shard): the
+// ensemble's kind, seed and description, the configuration as given, the first command line
+// and when it started.
+void read_provenance(const h5::Group& root, Run& r);
+
+// The memory the run holds: its ensemble (padded), its observers with each thread's partial, its
+// trajectories.
+double memory_of(const Run& r);
+
 // The record of the run with the ensemble where it is now, this session ended at `now`.
 RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                     const std::string& session_started, const std::string& now,

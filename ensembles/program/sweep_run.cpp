@@ -26,10 +26,7 @@ void check_memory(const Config& config, const std::vector<Run>& runs) {
   double bytes = 0;
   std::size_t orbits = 0;
   for (const auto& r : runs) {
-    const std::size_t padded =
-        (r.orbits + Ensemble::padding - 1) / Ensemble::padding * Ensemble::padding;
-    bytes += static_cast<double>(padded) * bytes_per_orbit(*r.model) + r.observers.bytes(r.x.threads);
-    for (const auto& t : r.trajectories) bytes += t.bytes(r.plan.total);
+    bytes += memory_of(r);
     orbits += r.orbits;
   }
   const MemoryLimit have = memory_limit();
