@@ -94,7 +94,7 @@ inline constexpr std::size_t max_watched = 4;
 
 template <class Map, class V>
 struct Crossing {
-  typename Map::template State<V> before, after;  // before: only for a linear section
+  typename Map::template State<V> before, after;  // before: only where a section needs it
   ops::mask_t<V> lanes;
   long long step;
   int chain;
@@ -105,7 +105,7 @@ template <class Map, class V>
 struct Watch {
   std::size_t count = 0;  // 0: no section is watched
   const Section* sections[max_watched];
-  bool linear = false;    // a section interpolates: crossings keep the state before them
+  bool keep_before = false;  // a section's point needs the state before the crossing too
   // Room for every crossing a chunk can have (its steps × K chains × count): filled from 0.
   Crossing<Map, V>* crossings = nullptr;
 
@@ -241,11 +241,11 @@ template <class Map, class V, int K>
                                                   const ops::mask_t<V> (&alive)[K],
                                                   std::size_t& crossed) {
   if constexpr (K == 8) {
-    if (watch.linear)
+    if (watch.keep_before)
       return step_chunk_apart<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
     return step_chunk_apart<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
   } else {
-    if (watch.linear)
+    if (watch.keep_before)
       return step_chunk<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
     return step_chunk<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
   }
@@ -308,7 +308,7 @@ template <class Map, class V, int K>
   if (sections && observers->sections.size() <= detail::max_watched) {
     for (const auto& section : observers->sections) {
       watch.sections[watch.count++] = &section;
-      watch.linear = watch.linear || section.linear;
+      watch.keep_before = watch.keep_before || section.needs_before();
     }
     const std::size_t room = static_cast<std::size_t>(detail::max_chunk) * K * watch.count;
     if (crossings.size() < room) crossings.resize(room);
@@ -354,9 +354,10 @@ template <class Map, class V, int K>
       const auto& x = crossings[i];
       Section& section = observers->sections[static_cast<std::size_t>(x.section)];
       const auto after = node_values<Map>(c, x.after, section_momentum);
-      record_lanes(section, x.lanes,
-                   section.linear ? node_values<Map>(c, x.before, section_momentum) : after, after,
-                   first + x.chain * W, x.step);
+      record_lanes<Map>(c, section, x.lanes,
+                        section.needs_before() ? node_values<Map>(c, x.before, section_momentum)
+                                               : after,
+                        after, first + x.chain * W, x.step);
     }
   };
 

@@ -26,6 +26,9 @@
 //   time_per_orbit                true when each orbit keeps its own clock in its state; then
 //   clock<V>(s)                   the orbit's physical time
 //   reports_faults                true when step solves an equation and returns fault codes
+//   to_plane<V>(c, x, k, ds)      optional, for a map that integrates a flow: the phase point x
+//                                 carried by that flow until q_k has moved by ds (Hénon's
+//                                 method), what a section of mode `exact` records
 //   facts                         MapFacts: its example parameters, tolerances and preset
 #include <array>
 #include <concepts>
@@ -100,5 +103,11 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
     (!M::time_per_orbit || requires(typename M::template State<double> s) {
       { M::clock(s) } -> std::same_as<double>;
     });
+
+// Whether the map integrates a flow that carries a phase point to a position plane.
+template <class M>
+concept FlowsToPlane = requires(const typename M::Coeffs& c, std::array<double, 4> x) {
+  { M::to_plane(c, x, std::size_t{0}, 0.0) } -> std::same_as<std::array<double, 4>>;
+};
 
 }  // namespace qmaps

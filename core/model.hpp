@@ -72,6 +72,9 @@ class Model {
   // time_per_orbit()).
   virtual double time(const Ensemble& e, std::size_t orbit) const = 0;
   virtual bool time_per_orbit() const = 0;
+  // Whether the map integrates a flow that carries an orbit to a position plane (a section of
+  // mode exact).
+  virtual bool flows_to_plane() const = 0;
   // Replaces every orbit's state by the one whose steps retrace it backward.
   virtual void reverse(Ensemble& e) const = 0;
   // The chaos indicators its state records (core/tangent_map.hpp), per orbit; none for a plain

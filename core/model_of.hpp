@@ -91,6 +91,7 @@ class ModelOf final : public Model {
     return Map::time(c_, e.step, state_of(e, orbit));
   }
   bool time_per_orbit() const override { return Map::time_per_orbit; }
+  bool flows_to_plane() const override { return FlowsToPlane<Map>; }
   void reverse(Ensemble& e) const override {
     for (std::size_t i = 0; i < e.padded; ++i) {
       const auto s = Map::reversed(c_, state_of(e, i));

@@ -188,6 +188,12 @@ struct Tangent {
   {
     return Map::clock(base(s));
   }
+  template <class V>
+  static std::array<V, 4> to_plane(const Coeffs& c, const std::array<V, 4>& x, std::size_t k, V ds)
+    requires FlowsToPlane<Map>
+  {
+    return Map::to_plane(c.map, x, k, ds);
+  }
   // The state reversed; the deviations and sums stay as they are.
   template <class V>
   static State<V> reversed(const Coeffs& c, const State<V>& s) {

@@ -23,6 +23,16 @@
 //   II  β = α, δ = 6α, B = A     I_case2 = p1p2 + 2q1q2[A + 2α(q1²+q2²)]
 //   III β = 16α, δ = 12α, B = 4A I_case3 = L p1 + 2q1²q2[A + 2α(q1²+2q2²)]
 //   IV  β = 8α, δ = 6α, B = 4A   I_case4 = 4αq1²(q1p2 − 2q2p1)² + {p1² + 2q1²[A + α(q1²+2q2²)]}²
+//
+// Hénon's method carries a phase point to the plane q_k = value (a section of mode exact): with
+// q_k as the independent variable σ the flow is dq/dσ = p/p_k, dp/dσ = F(q)/p_k. Split as a step
+// is split, both parts are solved exactly, j being the other index:
+//   D(τ): q_j += τ p_j/p_k, q_k += τ          K(τ): q fixed, p_k' = sgn(p_k) √(p_k² + 2τF_k),
+//                                                    p_j += 2τF_j/(p_k + p_k')
+// and composed with the step's own γ_i over Δσ = value − q_k: the point lies on the plane to
+// round-off, accurate to the composition's order. Where p_k vanishes on the way the result is
+// not finite.
+//
 // A relation x = y holds when |x − y| ≤ 1e-12 max(|x|, |y|); the integral is then that of the exact
 // relation, written in A and α (and B for case I). For α ≠ 0 the cases exclude one another; only
 // the linear set α = β = δ = 0 satisfies several, and it is case I (the first that holds) with
@@ -79,6 +89,8 @@ struct SplitFlow {
     int order, stages;               // s
     std::array<double, 16> drift;    // q += drift[i] p before kick i; drift[s] ends the step
     std::array<double, 15> kick;     // p += kick[i] F(q): γ_i h
+    std::array<double, 16> drift_unit;  // (γ_i + γ_{i+1})/2 and γ_i: the composition over a unit
+    std::array<double, 15> kick_unit;   // step, for Hénon's method
     double fA, fB, fa, fb, fd;       // F1 = q1(fA + fa q1² + fd q2²), F2 = q2(fB + fb q2² + fd q1²)
     int which;                       // detected case, 0 = none
     bool linear;                     // α = β = δ = 0: I_case1 = p1²/2 + A q1²
@@ -114,6 +126,30 @@ struct SplitFlow {
       p2 = ops::fma(k, q2 * ops::fma(V(c.fb), x2, ops::fma(V(c.fd), x1, V(c.fB))), p2);
     }
     s = {q1, q2, p1, p2};
+  }
+
+  // Hénon's method (above): x = (q1, q2, p1, p2) carried until q_k has moved by ds.
+  template <class V>
+  static std::array<V, 4> to_plane(const Coeffs& c, const std::array<V, 4>& x, std::size_t k, V ds) {
+    const std::size_t j = 1 - k;
+    std::array<V, 2> q = {x[0], x[1]}, p = {x[2], x[3]}, F;
+    const auto backward = p[k] < V(0.0);  // p_k keeps its sign on the way
+    const V two(2.0);
+    for (int i = 0;; ++i) {
+      const V tau = V(c.drift_unit[static_cast<std::size_t>(i)]) * ds;
+      q[j] = ops::fma(tau, p[j] / p[k], q[j]);
+      q[k] = q[k] + tau;
+      if (i == c.stages) break;
+      const V x1 = q[0] * q[0], x2 = q[1] * q[1];
+      const V tau2 = two * (V(c.kick_unit[static_cast<std::size_t>(i)]) * ds);
+      F[0] = q[0] * ops::fma(V(c.fa), x1, ops::fma(V(c.fd), x2, V(c.fA)));
+      F[1] = q[1] * ops::fma(V(c.fb), x2, ops::fma(V(c.fd), x1, V(c.fB)));
+      const V root = ops::sqrt(ops::fma(tau2, F[k], p[k] * p[k]));
+      const V pk = ops::select(backward, ops::neg(root), root);
+      p[j] = ops::fma(tau2 / (p[k] + pk), F[j], p[j]);
+      p[k] = pk;
+    }
+    return {q[0], q[1], p[0], p[1]};
   }
 
   template <class V>  // |q|²
@@ -177,6 +213,8 @@ struct SplitFlow {
     c.order = order, c.stages = static_cast<int>(s);
     for (std::size_t i = 0; i <= s; ++i) c.drift[i] = (g[i] + g[i + 1]) * c.h / 2;
     for (std::size_t i = 0; i < s; ++i) c.kick[i] = g[i + 1] * c.h;
+    for (std::size_t i = 0; i <= s; ++i) c.drift_unit[i] = (g[i] + g[i + 1]) / 2;
+    for (std::size_t i = 0; i < s; ++i) c.kick_unit[i] = g[i + 1];
     c.fA = -2 * c.A, c.fB = -2 * c.B, c.fa = -4 * c.alpha, c.fb = -4 * c.beta, c.fd = -2 * c.delta;
 
     const auto holds = [](double x, double y) {

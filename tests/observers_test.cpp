@@ -32,7 +32,7 @@ Observers observers(std::size_t orbits, std::int64_t cap, bool linear = false) {
   s.plane = Coordinate::q1;
   s.value = 0.0;
   s.direction = 1;
-  s.linear = linear;
+  s.mode = linear ? SectionMode::linear : SectionMode::iterate;
   s.x = Coordinate::q2;
   s.y = Coordinate::p2;
   s.cap = cap;
@@ -100,7 +100,7 @@ Section section(std::string name, Coordinate plane, int direction, bool linear, 
   s.name = std::move(name);
   s.plane = plane;
   s.direction = direction;
-  s.linear = linear;
+  s.mode = linear ? SectionMode::linear : SectionMode::iterate;
   s.x = plane == Coordinate::q1 ? Coordinate::q2 : Coordinate::q1;
   s.y = plane == Coordinate::q1 ? Coordinate::p2 : Coordinate::p1;
   s.cap = cap;

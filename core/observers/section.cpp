@@ -10,7 +10,7 @@ std::int64_t Section::slots_per_orbit(std::int64_t cap, int direction, long long
 }
 
 Section Section::empty_copy() const {
-  return {name, plane, value, direction, linear, x, y, cap, density.empty_copy(), points};
+  return {name, plane, value, direction, mode, x, y, cap, density.empty_copy(), points, 0};
 }
 
 void Section::finish() { density.flush(); }

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/map_concept.hpp"
 #include "core/observers/histogram_lanes.hpp"
 #include "core/observers/node_values.hpp"
 #include "core/observers/section.hpp"
@@ -22,32 +23,61 @@ ops::mask_t<V> crosses(const Section& section, V a, V b) {
 }
 
 // The point a crossing from node n (`before`) to node n + 1 (`after`) gives in the section's
-// (x, y): mode iterate, node n + 1's; mode linear, the interpolation to the plane at
-// f = (value − a)/(b − a) of the plane coordinate's a → b (f = 1 where b = a).
-template <class V>
-std::array<V, 2> section_point(const Section& section, const std::array<V, 5>& before,
-                               const std::array<V, 5>& after) {
+// (x, y), with the lanes whose exact point had to be interpolated:
+//   iterate  node n + 1's;
+//   linear   the interpolation to the plane at f = (value − a)/(b − a) of the plane coordinate's
+//            a → b (f = 1 where b = a);
+//   exact    the map's flow from the nearer node whose momentum heads to the plane (forward from
+//            n, backward from n + 1), else from the other; where neither heads there, or the flow
+//            meets p_k = 0 on the way, the linear interpolation.
+template <class Map, class V>
+std::array<V, 2> section_point(const typename Map::Coeffs& c, const Section& section,
+                               const std::array<V, 5>& before, const std::array<V, 5>& after,
+                               ops::mask_t<V>& interpolated) {
   const auto x = static_cast<std::size_t>(section.x), y = static_cast<std::size_t>(section.y);
-  std::array<V, 2> xy = {after[x], after[y]};
-  if (section.linear) {
-    const auto p = static_cast<std::size_t>(section.plane);
-    const V a = before[p], b = after[p];
-    const V f = ops::select(b == a, V(1.0), (V(section.value) - a) / (b - a));
-    xy[0] = before[x] + f * (xy[0] - before[x]);
-    xy[1] = before[y] + f * (xy[1] - before[y]);
+  const auto p = static_cast<std::size_t>(section.plane);
+  interpolated = V(0.0) != V(0.0);
+  if (section.mode == SectionMode::iterate) return {after[x], after[y]};
+  const V a = before[p], b = after[p], value(section.value);
+  const V f = ops::select(b == a, V(1.0), (value - a) / (b - a));
+  const std::array<V, 2> linear = {before[x] + f * (after[x] - before[x]),
+                                   before[y] + f * (after[y] - before[y])};
+  if (section.mode == SectionMode::linear) return linear;
+  if constexpr (FlowsToPlane<Map>) {
+    const V to_before = value - a, to_after = value - b;  // ds from either node
+    using Mask = ops::mask_t<V>;
+    const Mask before_heads = to_before * before[2 + p] > V(0.0);
+    const Mask after_heads = (to_after * after[2 + p] < V(0.0)) | (to_after == V(0.0));
+    const Mask from_before =
+        before_heads & (ops::negate(after_heads) | (ops::abs(to_before) <= ops::abs(to_after)));
+    std::array<V, 4> start;
+    for (std::size_t i = 0; i < 4; ++i) start[i] = ops::select(from_before, before[i], after[i]);
+    const auto point = Map::to_plane(c, start, p, ops::select(from_before, to_before, to_after));
+    Mask exact = before_heads | after_heads;
+    for (const V& v : point) exact = exact & (v - v == V(0.0));  // finite
+    interpolated = ops::negate(exact);
+    return {ops::select(exact, point[x], linear[0]), ops::select(exact, point[y], linear[1])};
+  } else {
+    interpolated = V(0.0) == V(0.0);  // refused by the configuration: no flow to integrate
+    return linear;
   }
-  return xy;
 }
 
 // Records the section's crossing at `step` by each lane of `crossing` (orbit first_orbit + lane):
 // every crossing in the section's density, in V; its point while the orbit's cap allows.
-template <class V>
-void record_lanes(Section& section, ops::mask_t<V> crossing, const std::array<V, 5>& before,
-                  const std::array<V, 5>& after, std::size_t first_orbit, long long step) {
-  const auto xy = section_point(section, before, after);
+template <class Map, class V>
+void record_lanes(const typename Map::Coeffs& c, Section& section, ops::mask_t<V> crossing,
+                  const std::array<V, 5>& before, const std::array<V, 5>& after,
+                  std::size_t first_orbit, long long step) {
+  ops::mask_t<V> interpolated;
+  const auto xy = section_point<Map>(c, section, before, after, interpolated);
   section.density.add_lanes(xy.data(), crossing);
-  if (section.cap == 0) return;
   const auto lanes = ops::lanes_of(crossing);
+  if (ops::any(interpolated & crossing)) {
+    const auto inexact = ops::lanes_of(interpolated);
+    for (std::size_t l = 0; l < lanes.size(); ++l) section.interpolated += lanes[l] && inexact[l];
+  }
+  if (section.cap == 0) return;
   const auto x = ops::lanes_of(xy[0]), y = ops::lanes_of(xy[1]);
   for (std::size_t l = 0; l < lanes.size(); ++l)
     if (lanes[l]) section.points->keep(first_orbit + l, step, x[l], y[l]);
@@ -65,7 +95,8 @@ void check_sections(const typename Map::Coeffs& c, const typename Map::template 
   for (auto& section : sections) {
     const auto p = static_cast<std::size_t>(section.plane);
     const auto crossing = crosses(section, before[p], after[p]) & alive;
-    if (ops::any(crossing)) record_lanes(section, crossing, before, after, first_orbit, step);
+    if (ops::any(crossing))
+      record_lanes<Map>(c, section, crossing, before, after, first_orbit, step);
   }
   before = after;
 }

@@ -85,6 +85,24 @@ std::string unique_name(const Config& config, const std::string& section,
   return name;
 }
 
+// A section's mode: `exact` needs a map that integrates a flow, and a position plane.
+SectionMode section_mode(const Config& config, const std::string& s, Coordinate plane,
+                         const Model& model) {
+  const std::string mode = config.string_or(s, "mode", "iterate");
+  const auto known = std::ranges::find(section_mode_names, mode);
+  if (known == section_mode_names.end())
+    throw usage_error(config.where(s, "mode") + " must be \"iterate\", \"linear\" or \"exact\"");
+  const auto m = static_cast<SectionMode>(known - section_mode_names.begin());
+  if (m == SectionMode::exact && !model.flows_to_plane())
+    throw usage_error(config.where(s, "mode") + ": \"exact\" integrates a flow to the plane; map '" +
+                      std::string(model.name()) +
+                      "' is a discrete map with no flow between iterates (use \"iterate\")");
+  if (m == SectionMode::exact && is_momentum(plane))
+    throw usage_error(config.where(s, "mode") + ": \"exact\" needs a plane in q1 or q2 (the plane is " +
+                      std::string(coordinate_name(plane)) + ")");
+  return m;
+}
+
 }  // namespace
 
 Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits,
@@ -116,10 +134,7 @@ Observers observers_from_config(const Config& config, const Model& model, std::s
     if (direction != "+" && direction != "-" && direction != "both")
       throw usage_error(config.where(s, "direction") + " must be \"+\", \"-\" or \"both\"");
     section.direction = direction == "+" ? 1 : direction == "-" ? -1 : 0;
-    const std::string mode = config.string_or(s, "mode", "iterate");
-    if (mode != "iterate" && mode != "linear")
-      throw usage_error(config.where(s, "mode") + " must be \"iterate\" or \"linear\"");
-    section.linear = mode == "linear";
+    section.mode = section_mode(config, s, section.plane, model);
     section.x = coordinate(config, s, "x", model);
     section.y = coordinate(config, s, "y", model);
     section.cap = config.integer_or(s, "cap", 100);

@@ -134,6 +134,12 @@ void restore_observers(const h5::Group& root, Observers& o) {
   for (auto& s : o.sections) {
     const auto g = sections.open_group(s.name);
     restore_histogram(g, "density", s.density);
+    if (s.mode == SectionMode::exact) {
+      if (!g.has_attr("interpolated")) throw bad(g, "it has no attribute interpolated");
+      s.interpolated = g.attr_int64("interpolated");
+      if (s.interpolated < 0 || s.interpolated > s.density.samples())
+        throw bad(g, "interpolated is " + std::to_string(s.interpolated) + ", not 0 to crossings");
+    }
     // The points kept per orbit, each within the orbit's slots, say how many points there are.
     SectionPoints& kept = *s.points;
     const auto counts = g.read_int64("kept", kept.kept().size());

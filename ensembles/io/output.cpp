@@ -85,7 +85,8 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
     g.attr("plane", std::string(coordinate_name(s.plane)));
     g.attr("value", s.value);
     g.attr("direction", std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
-    g.attr("mode", std::string(s.linear ? "linear" : "iterate"));
+    g.attr("mode", std::string(section_mode_names[static_cast<std::size_t>(s.mode)]));
+    if (s.mode == SectionMode::exact) g.attr("interpolated", s.interpolated);
     g.attr("cap", s.cap);
     g.attr("crossings", s.density.samples());
   }
