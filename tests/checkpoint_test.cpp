@@ -167,6 +167,25 @@ TEST_F(Checkpoint, WithoutPerOrbitDatasetsResumedHistogramsEqualUninterruptedRun
   EXPECT_TRUE(SameDatasets(output, reference(), true));
 }
 
+// A flow's section of mode exact, with its count of interpolated crossings, survives a checkpoint.
+TEST_F(Checkpoint, FlowsExactSectionResumedEqualsUninterruptedRun) {
+  std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/leapfrog.toml");
+  text = with_line(text, "orbits = ", "orbits = 2000");
+  text = with_line(text, "steps = ", "steps = 1000");
+  write_text(dir / "flow.toml", with_line(text, "file = ", "file = \"flow.h5\""));
+  ASSERT_EQ(run({"run", "flow.toml", "--out", "whole.h5"}, dir).status, 0);
+  const pid_t pid = spawn({"run", "flow.toml", "--set", "run.checkpoint_every=300"}, dir, "300:INT");
+  ASSERT_EQ(finish(pid, dir).status, kInterrupted);
+  const Result r = run({"run", "--resume", dir / "flow.h5.ckpt", "--simd", other_isa()}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(SameDatasets(dir / "flow.h5", dir / "whole.h5"));
+  const auto resumed = h5::File::open_read(dir / "flow.h5").root().open_group("sections").open_group("q1up");
+  const auto whole = h5::File::open_read(dir / "whole.h5").root().open_group("sections").open_group("q1up");
+  EXPECT_EQ(resumed.attr_string("mode"), "exact");
+  EXPECT_EQ(resumed.attr_int64("interpolated"), whole.attr_int64("interpolated"));
+  EXPECT_GT(resumed.attr_int64("crossings"), 2000);
+}
+
 TEST_F(Checkpoint, PeriodicCheckpointsChangeNothingAndAreRemoved) {
   const Result r = run({"run", "cfg.toml", "--set", "run.checkpoint_every=700"}, dir);
   ASSERT_EQ(r.status, 0) << r.err;

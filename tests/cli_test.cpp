@@ -250,6 +250,14 @@ TEST_F(Cli, BadObserverConfigurationIsRejectedNamingTheKey) {
   expect_rejected(run_config(config + section + "cap = -1\n"), 2, {"[section[0]] cap must be >= 0"});
   expect_rejected(run_config(config + section + "direction = \"up\"\n"), 2, {"direction must be"});
   expect_rejected(run_config(config + section + "mode = \"cubic\"\n"), 2, {"mode must be"});
+  // Mode exact integrates a flow: a discrete map has none, and a plane in p has no closed form.
+  expect_rejected(run_config(config + section + "mode = \"exact\"\n"), 2,
+                  {"[section[0]] mode: \"exact\" integrates a flow to the plane; map 'suris' is a "
+                   "discrete map with no flow between iterates (use \"iterate\")"});
+  const std::string flow = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/leapfrog.toml");
+  expect_rejected(run_config(flow + with_line(section, "plane = ", "plane = \"p1\"") +
+                             "mode = \"exact\"\n"),
+                  2, {"[section[1]] mode: \"exact\" needs a plane in q1 or q2 (the plane is p1)"});
   expect_rejected(run_config(config + histogram + "bins = 4\n" + with_line(section, "name = ", "name = \"h\"")),
                   2, {"[section[0]] name: 'h' is used twice"});
   expect_rejected(run_config(config + "\n[invariant_image]\nx = \"H\"\ny = \"K\"\n"

@@ -48,8 +48,17 @@ class SchemaMatchesWriter(unittest.TestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.path = small_run.small_run(cls.tmp.name, orbits=300, steps=200)
+        # A flow's run adds what only mode exact writes.
+        cls.flow_path = small_run.small_run(cls.tmp.name, orbits=300, steps=200, name="flow.h5",
+                                            preset=small_run.FLOW_PRESET,
+                                            extra=small_run.FLOW_OBSERVERS)
         cls.schema = schema_doc.Schema(DOC)
-        cls.objects = objects(cls.path)
+        # The raw states of the other layouts: case2-staggered's and case3's.
+        others = [small_run.small_run(cls.tmp.name, orbits=None, steps=20, name=f"{p}.h5",
+                                      preset=small_run.PRESET.with_name(f"{p}.toml"), extra="")
+                  for p in ("case2-staggered", "case3")]
+        cls.written = {path: objects(path) for path in (cls.path, cls.flow_path, *others)}
+        cls.objects = [o for written in cls.written.values() for o in written]
 
     @classmethod
     def tearDownClass(cls):
@@ -72,9 +81,13 @@ class SchemaMatchesWriter(unittest.TestCase):
                                     and e.kind == "group" for e in self.schema.entries), group)
 
     def test_every_object_written_is_documented_with_its_type_and_shape(self):
-        with h5py.File(self.path, "r") as f:
-            for gpath, name, kind, value, _ in self.objects:
-                with self.subTest(group=gpath, name=name, kind=kind):
+        for path, written in self.written.items():
+            self.check_documented(path, written)
+
+    def check_documented(self, path, written):
+        with h5py.File(path, "r") as f:
+            for gpath, name, kind, value, _ in written:
+                with self.subTest(file=path.name, group=gpath, name=name, kind=kind):
                     entry = self.schema.entry(gpath, name, kind)
                     self.assertIsNotNone(entry, f"{kind} {name} of {gpath} is not in {DOC.name}")
                     if kind == "group":

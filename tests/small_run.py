@@ -44,6 +44,24 @@ every = 50
 """
 
 
+# The flow's preset (its section of mode exact) with a second section of mode exact in q2.
+FLOW_PRESET = SOURCE_DIR / "ensembles" / "presets" / "leapfrog.toml"
+FLOW_OBSERVERS = """
+[[section]]
+name = "q2exact"
+plane = "q2"
+value = 0.1
+direction = "both"
+mode = "exact"
+x = "q1"
+y = "p1"
+cap = 1000
+x_range = [-1.0, 1.0]
+y_range = [-1.0, 1.0]
+bins = [64, 64]
+"""
+
+
 def qmaps(directory, *args, env=None):
     """The binary run in `directory` with `args` (and `env` added to the environment), its
     output captured as text."""
@@ -51,13 +69,16 @@ def qmaps(directory, *args, env=None):
                           cwd=directory, env={**os.environ, **(env or {})})
 
 
-def small_run(directory, orbits=2000, steps=200, name="small.h5"):
-    """Runs the preset plus EXTRA_OBSERVERS with `orbits` and `steps`; returns the file's path."""
+def small_run(directory, orbits=2000, steps=200, name="small.h5", preset=PRESET,
+              extra=EXTRA_OBSERVERS):
+    """Runs the preset plus `extra` with `orbits` and `steps`; returns the file's path."""
     directory = pathlib.Path(directory)
     config = directory / "config.toml"
-    config.write_text(PRESET.read_text() + EXTRA_OBSERVERS)
+    config.write_text(preset.read_text() + extra)
     out = directory / name
-    subprocess.run([str(BINARY), "run", str(config), "--set", f"ensemble.orbits={orbits}",
-                    "--set", f"run.steps={steps}", "--out", str(out), "--quiet"],
+    sets = ["--set", f"run.steps={steps}"]
+    if orbits is not None:  # None: the preset's own (a grid's, one per point)
+        sets += ["--set", f"ensemble.orbits={orbits}"]
+    subprocess.run([str(BINARY), "run", str(config), *sets, "--out", str(out), "--quiet"],
                    check=True, capture_output=True, cwd=directory)
     return out

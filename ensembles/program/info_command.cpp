@@ -173,7 +173,11 @@ int describe(const std::string& path, std::ostream& out) {
       const auto s = sections.open_group(name);
       out << "  " << name << ": " << s.attr_string("plane") << " = "
           << number_text(s.attr_double("value")) << " (" << s.attr_string("direction") << ", "
-          << s.attr_string("mode") << "), " << s.attr_int64("crossings") << " crossings, "
+          << s.attr_string("mode") << "), " << s.attr_int64("crossings") << " crossings"
+          << (s.has_attr("interpolated")
+                  ? " (" + std::to_string(s.attr_int64("interpolated")) + " interpolated)"
+                  : std::string())
+          << ", "
           << points_in(s) << " points kept (cap " << s.attr_int64("cap") << "); "
           << histogram_text(s, "density") << '\n';
     }
