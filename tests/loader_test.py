@@ -26,7 +26,8 @@ class Loader(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
-        cls.path = small_run.small_run(cls.tmp.name, orbits=300, steps=200)
+        cls.paths = small_run.every_layout(cls.tmp.name)
+        cls.path = cls.paths[0]
         cls.schema = schema_doc.Schema(small_run.SOURCE_DIR / "docs" / "hdf5-schema.md")
         cls.loaded = qmaps_h5.load(cls.path)
 
@@ -36,9 +37,15 @@ class Loader(unittest.TestCase):
 
     def test_every_documented_object_round_trips(self):
         seen = set()
-        with h5py.File(self.path, "r") as f:
+        for path in self.paths:
+            with self.subTest(file=path.name):
+                self.round_trip(path, qmaps_h5.load(path), seen)
+        self.assertEqual(seen, set(self.schema.entries), "the runs cover every documented object")
+
+    def round_trip(self, path, run, seen):
+        with h5py.File(path, "r") as f:
             def check(h5group):
-                loaded = self.loaded[h5group.name] if h5group.name != "/" else self.loaded
+                loaded = run[h5group.name] if h5group.name != "/" else run
                 self.assertIsInstance(loaded, qmaps_h5.Group)
                 self.assertEqual(loaded.path, h5group.name)
                 self.assertEqual(set(loaded.attrs), set(h5group.attrs))
@@ -58,13 +65,12 @@ class Loader(unittest.TestCase):
                     seen.add(entry)
                     with self.subTest(group=h5group.name, dataset=name):
                         data = loaded.datasets[name]
-                        self.assertIs(data, self.loaded[h5group.name + "/" + name])
+                        self.assertIs(data, run[h5group.name + "/" + name])
                         self.assertIsInstance(data, np.ndarray)
                         self.assertEqual(data.dtype, NUMPY_TYPE[entry.dtype])
                         self.assertEqual(data.shape, child.shape)
                         np.testing.assert_array_equal(data, child[()])
             check(f)
-        self.assertEqual(seen, set(self.schema.entries), "the run covers every documented object")
 
     def test_run_helpers(self):
         self.assertEqual(self.loaded.params, {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1})
@@ -95,6 +101,75 @@ class Loader(unittest.TestCase):
         self.assertEqual(run["final/state"].attrs, self.loaded["final/state"].attrs)
         self.assertNotIn("max_abs_drift", run["invariants/H"].datasets)
         self.assertIn("initial", run["invariants/H"].datasets)
+
+    def test_per_orbit_data_as_pandas_and_xarray(self):
+        orbits = self.loaded.attrs["orbits"]
+        frame = self.loaded.to_pandas()
+        self.assertEqual(frame.index.name, "orbit")
+        self.assertEqual(len(frame), orbits)
+        for column in ("initial.q1", "final.p2", "final.state.q1_n+1", "escape.step",
+                       "escape.reason", "invariants.I2.max_abs_drift", "chaos.megno"):
+            with self.subTest(column=column):
+                np.testing.assert_array_equal(frame[column].to_numpy(),
+                                              self.loaded[column.replace(".", "/")])
+        self.assertNotIn("sections.q1up.x", frame.columns)  # points, not orbits
+        data = self.loaded.to_xarray()
+        self.assertEqual(data.sizes["orbit"], orbits)
+        self.assertEqual(sorted(data.data_vars), sorted(frame.columns))
+        np.testing.assert_array_equal(data["invariants.H.initial"].values,
+                                      self.loaded["invariants/H/initial"])
+        self.assertEqual(data.attrs["map"], "suris")
+
+    def test_a_run_without_per_orbit_data_says_so(self):
+        path = f"{self.tmp.name}/summary.h5"
+        small_run.qmaps(self.tmp.name, "run", small_run.PRESET, "--set", "output.per_orbit=false",
+                        "--set", "ensemble.orbits=100", "--set", "run.steps=10", "--out", path,
+                        "--quiet").check_returncode()
+        with qmaps_h5.load(path) as run, self.assertRaises(qmaps_h5.QmapsFileError) as caught:
+            run.to_pandas()
+        self.assertEqual(str(caught.exception), f"{path}: no per-orbit datasets (the run was "
+                         "written with [output] per_orbit = false)")
+
+    def test_slices_read_from_the_file_and_close_ends_reading(self):
+        run = qmaps_h5.load(self.path)
+        x = run.dataset("sections/q1up/x")
+        np.testing.assert_array_equal(x[:10], self.loaded["sections/q1up/x"][:10])
+        with self.assertRaises(KeyError):
+            run.dataset("sections/q1up/nothing")
+        run.close()
+        with self.assertRaises(Exception):
+            run["initial/q1"]
+
+    def test_opening_a_million_orbit_file_reads_no_dataset(self):
+        """Opening reads the tree and the attributes only: under 50 MB more than the interpreter
+        with numpy and h5py until a dataset is read; reading one 8 MB dataset shows in RSS."""
+        path = f"{self.tmp.name}/million.h5"
+        small_run.qmaps(self.tmp.name, "run", small_run.PRESET, "--set", "ensemble.orbits=1000000",
+                        "--set", "run.steps=4", "--set", "output.per_orbit=true", "--out", path,
+                        "--quiet").check_returncode()
+        self.assertGreater(os.path.getsize(path), 150e6)
+        script = f"""
+import sys
+sys.path.insert(0, {str(small_run.TOOLS)!r})
+import numpy, h5py, qmaps_h5
+def rss():
+    for line in open("/proc/self/status"):
+        if line.startswith("VmRSS:"):
+            return int(line.split()[1]) * 1024
+start = rss()
+run = qmaps_h5.load({path!r})
+opened = rss()
+run["initial/q1"].sum()
+read = rss()
+print(opened - start, read - opened)
+"""
+        r = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        opened, read = map(int, r.stdout.split())
+        print(f"opening a 1e6-orbit file: +{opened / 2**20:.1f} MB; reading one dataset: "
+              f"+{read / 2**20:.1f} MB")
+        self.assertLess(opened, 50 * 2**20)
+        self.assertGreater(read, 7 * 2**20)
 
     def test_unreadable_files_are_clear_errors(self):
         missing = f"{self.tmp.name}/missing.h5"

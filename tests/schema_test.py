@@ -47,17 +47,10 @@ class SchemaMatchesWriter(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
-        cls.path = small_run.small_run(cls.tmp.name, orbits=300, steps=200)
-        # A flow's run adds what only mode exact writes.
-        cls.flow_path = small_run.small_run(cls.tmp.name, orbits=300, steps=200, name="flow.h5",
-                                            preset=small_run.FLOW_PRESET,
-                                            extra=small_run.FLOW_OBSERVERS)
+        cls.paths = small_run.every_layout(cls.tmp.name)
+        cls.path = cls.paths[0]
         cls.schema = schema_doc.Schema(DOC)
-        # The raw states of the other layouts: case2-staggered's and case3's.
-        others = [small_run.small_run(cls.tmp.name, orbits=None, steps=20, name=f"{p}.h5",
-                                      preset=small_run.PRESET.with_name(f"{p}.toml"), extra="")
-                  for p in ("case2-staggered", "case3")]
-        cls.written = {path: objects(path) for path in (cls.path, cls.flow_path, *others)}
+        cls.written = {path: objects(path) for path in cls.paths}
         cls.objects = [o for written in cls.written.values() for o in written]
 
     @classmethod

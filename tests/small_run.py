@@ -82,3 +82,15 @@ def small_run(directory, orbits=2000, steps=200, name="small.h5", preset=PRESET,
     subprocess.run([str(BINARY), "run", str(config), *sets, "--out", str(out), "--quiet"],
                    check=True, capture_output=True, cwd=directory)
     return out
+
+
+def every_layout(directory):
+    """Small runs that together write everything the schema page documents: the preset with
+    EXTRA_OBSERVERS, a flow's with FLOW_OBSERVERS (mode exact), and case2-staggered's and case3's
+    raw states. The first is the Suris run."""
+    return [small_run(directory, orbits=300, steps=200),
+            small_run(directory, orbits=300, steps=200, name="flow.h5", preset=FLOW_PRESET,
+                      extra=FLOW_OBSERVERS),
+            *(small_run(directory, orbits=None, steps=20, name=f"{p}.h5",
+                        preset=PRESET.with_name(f"{p}.toml"), extra="")
+              for p in ("case2-staggered", "case3"))]

@@ -1,14 +1,17 @@
-"""Loads a qmaps run file (docs/hdf5-schema.md) into numpy arrays, under the schema's names.
+"""Opens a qmaps run file (docs/hdf5-schema.md) lazily, under the schema's names.
 
     import sys; sys.path.insert(0, "tools")
     import qmaps_h5
-    run = qmaps_h5.load("suris.h5")
-    run.attrs["map"], run.params["h"], run["invariants/H/initial"]
+    with qmaps_h5.load("suris.h5") as run:
+        run.attrs["map"], run.params["h"], run["invariants/H/initial"]
+        frame = run.to_pandas()           # one row per orbit
 
-Everything the file holds is loaded, whatever its name (a newer writer's extra attributes and
-datasets too): attributes become str, int or float, datasets numpy arrays, groups `Group`s.
-docs/python.md documents it.
+Everything the file holds is there, whatever its name (a newer writer's extra attributes and
+datasets too): attributes become str, int or float, groups `Group`s, and a dataset is read into a
+numpy array the first time it is asked for (`run.dataset(path)` gives the h5py dataset, to read
+a slice). docs/python.md documents it.
 """
+import collections.abc
 import dataclasses
 import fnmatch
 import os
@@ -34,9 +37,48 @@ def _decode(value):
     return value
 
 
+class Datasets(collections.abc.MutableMapping):
+    """A group's datasets by name, each read from the file into a numpy array the first time it
+    is asked for, and kept. An array assigned to a name replaces the file's in memory."""
+
+    def __init__(self, h5group, names):
+        self._group = h5group
+        self._names = list(names)
+        self._read = {}
+
+    def __getitem__(self, name):
+        if name not in self._read:
+            if name not in self._names:
+                raise KeyError(name)
+            self._read[name] = self._group[name][()]
+        return self._read[name]
+
+    def __setitem__(self, name, value):
+        if name not in self._names:
+            self._names.append(name)
+        self._read[name] = value
+
+    def __delitem__(self, name):
+        self._names.remove(name)
+        self._read.pop(name, None)
+
+    def __iter__(self):
+        return iter(self._names)
+
+    def __len__(self):
+        return len(self._names)
+
+    def h5(self, name):
+        """The h5py dataset, whose slices read only what they ask for."""
+        if name not in self._names or name not in self._group:
+            raise KeyError(name)
+        return self._group[name]
+
+
 @dataclasses.dataclass
 class Group:
-    """An HDF5 group: its path, attributes, datasets and subgroups, each by name."""
+    """An HDF5 group: its path, attributes, datasets (read when first asked for) and subgroups,
+    each by name."""
     path: str
     attrs: dict = dataclasses.field(default_factory=dict)
     datasets: dict = dataclasses.field(default_factory=dict)
@@ -86,10 +128,16 @@ class Histogram:
                    group.attrs["overflow"], group.attrs["samples"])
 
 
+# The groups whose (N_o,) datasets are per-orbit data, one row per orbit.
+PER_ORBIT_GROUPS = ("initial", "final", "escape", "invariants", "chaos")
+
+
 @dataclasses.dataclass
 class Run(Group):
-    """The root group of a run file, with the parameters and invariant names at hand."""
+    """The root group of a run file, with the parameters and invariant names at hand. It keeps the
+    file open until `close()` (or the end of a `with` block)."""
     file: str = ""
+    h5file: object = None
 
     @property
     def params(self):
@@ -101,29 +149,97 @@ class Run(Group):
         """The map's invariants ("H", "I1", ...), as in the file (not the energy-momentum image)."""
         return [n for n in self.groups["invariants"].groups if n != "image"]
 
+    def dataset(self, path):
+        """The h5py dataset at `path` ("sections/q1up/x"): its slices read only what they ask."""
+        group, _, name = path.strip("/").rpartition("/")
+        node = self[group] if group else self
+        return node.datasets.h5(name)
+
+    def per_orbit(self):
+        """{column: array of shape (orbits,)}: every per-orbit dataset of /initial, /final (with
+        its raw state), /escape, /invariants and /chaos, named by its path with "." for "/"
+        ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises QmapsFileError when
+        the file has none (a run written with per_orbit = false)."""
+        orbits = self.attrs["orbits"]
+        columns = {}
+
+        def visit(group, prefix):
+            for name in group.datasets:
+                if group.datasets.h5(name).shape == (orbits,):
+                    columns[prefix + name] = group.datasets[name]
+            for name, child in group.groups.items():
+                visit(child, prefix + name + ".")
+
+        for name in PER_ORBIT_GROUPS:
+            if name in self.groups:
+                visit(self.groups[name], name + ".")
+        if not columns:
+            raise QmapsFileError(f"{self.file}: no per-orbit datasets (the run was written with "
+                                 "[output] per_orbit = false)")
+        return columns
+
+    def to_pandas(self):
+        """The per-orbit data as a pandas DataFrame, one row per orbit (index `orbit`), one column
+        per dataset of per_orbit(). Needs pandas (Debian: python3-pandas)."""
+        pandas = _import("pandas", "python3-pandas")
+        frame = pandas.DataFrame(self.per_orbit())
+        frame.index.name = "orbit"
+        return frame
+
+    def to_xarray(self):
+        """The per-orbit data as an xarray Dataset over the dimension `orbit`, with the file's root
+        attributes. Needs xarray (Debian: python3-xarray)."""
+        xarray = _import("xarray", "python3-xarray")
+        variables = {name: ("orbit", values) for name, values in self.per_orbit().items()}
+        attrs = {k: v for k, v in self.attrs.items() if isinstance(v, (str, int, float))}
+        return xarray.Dataset(variables, coords={"orbit": np.arange(self.attrs["orbits"])},
+                              attrs=attrs)
+
+    def close(self):
+        """Closes the file: datasets not read by then can no longer be."""
+        if self.h5file is not None:
+            self.h5file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+
+def _import(module, package):
+    try:
+        return __import__(module)
+    except ImportError as e:
+        raise ImportError(f"{module} is needed for this (Debian: apt-get install {package})") from e
+
 
 def _load_group(h5group, group, skip):
     for name, value in h5group.attrs.items():
         group.attrs[name] = _decode(value)
+    names = []
     for name, child in h5group.items():
         path = child.name.lstrip("/")
         if isinstance(child, h5py.Group):
             group.groups[name] = _load_group(child, Group(child.name), skip)
         elif not any(fnmatch.fnmatchcase(path, pattern) for pattern in skip):
-            group.datasets[name] = child[()]
+            names.append(name)
+    group.datasets = Datasets(h5group, names)
     return group
 
 
 def load(path, skip=()):
-    """The run in the file at `path`. Datasets whose path (without the leading /) matches a
-    pattern of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out, to save memory
-    on large runs. Raises QmapsFileError when the file is missing, not HDF5 or not a qmaps run."""
+    """The run in the file at `path`, opened lazily: attributes and the tree are read now, each
+    dataset when first asked for. Datasets whose path (without the leading /) matches a pattern
+    of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises QmapsFileError
+    when the file is missing, not HDF5 or not a qmaps run."""
     path = os.fspath(path)
     if not os.path.isfile(path):
         raise QmapsFileError(f"{path}: no such file")
     if not h5py.is_hdf5(path):
         raise QmapsFileError(f"{path}: not an HDF5 file")
-    with h5py.File(path, "r") as f:
-        if "schema_version" not in f.attrs:
-            raise QmapsFileError(f"{path}: not a qmaps run (no schema_version attribute)")
-        return _load_group(f, Run("/", file=path), skip)
+    f = h5py.File(path, "r")
+    if "schema_version" not in f.attrs:
+        f.close()
+        raise QmapsFileError(f"{path}: not a qmaps run (no schema_version attribute)")
+    return _load_group(f, Run("/", file=path, h5file=f), skip)
