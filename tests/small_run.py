@@ -12,6 +12,25 @@ BINARY = pathlib.Path(os.environ.get("QMAPS_BINARY", SOURCE_DIR / "build" / "qma
 PRESET = SOURCE_DIR / "ensembles" / "presets" / "suris.toml"
 TOOLS = SOURCE_DIR / "tools"
 
+
+def q2_section(name, mode):
+    """A section of both directions across q2 = 0 that keeps every crossing, in `mode`."""
+    return f"""
+[[section]]
+name = "{name}"
+plane = "q2"
+value = 0.0
+direction = "both"
+mode = "{mode}"
+x = "q1"
+y = "p1"
+cap = 1000
+x_range = [-1.0, 1.0]
+y_range = [-1.0, 1.0]
+bins = [64, 64]
+"""
+
+
 # Added to the preset (a 2D density, a section capped at 2 points per orbit, the image): a 1D
 # density, a section that keeps every crossing, the chaos indicators and a trajectory.
 EXTRA_OBSERVERS = """
@@ -20,20 +39,7 @@ name = "p1"
 x = "p1"
 x_range = [-1.0, 1.0]
 bins = [50]
-
-[[section]]
-name = "q2both"
-plane = "q2"
-value = 0.0
-direction = "both"
-mode = "linear"
-x = "q1"
-y = "p1"
-cap = 1000
-x_range = [-1.0, 1.0]
-y_range = [-1.0, 1.0]
-bins = [64, 64]
-
+""" + q2_section("q2both", "linear") + """
 [chaos]
 spectrum = true
 
@@ -43,23 +49,9 @@ first = 3
 every = 50
 """
 
-
-# The flow's preset (its section of mode exact) with a second section of mode exact in q2.
+# The flow's preset (its section of mode exact) with a second section of mode exact, in q2.
 FLOW_PRESET = SOURCE_DIR / "ensembles" / "presets" / "leapfrog.toml"
-FLOW_OBSERVERS = """
-[[section]]
-name = "q2exact"
-plane = "q2"
-value = 0.1
-direction = "both"
-mode = "exact"
-x = "q1"
-y = "p1"
-cap = 1000
-x_range = [-1.0, 1.0]
-y_range = [-1.0, 1.0]
-bins = [64, 64]
-"""
+FLOW_OBSERVERS = q2_section("q2exact", "exact")
 
 
 def qmaps(directory, *args, env=None):
