@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import tomllib
 import unittest
 
 import h5py
@@ -219,6 +220,61 @@ class PlotTool(unittest.TestCase):
         self.assertEqual(status, 0, err)
         pixels = matplotlib.image.imread(png / "run-drift.png")
         self.assertEqual(pixels.shape[:2], (960, 1280))  # 4.8 x 6.4 in at 200 dpi
+
+    def test_paper_style_fits_a_journal_column(self):
+        out = self.dir / "paper"
+        status, stdout, err = run_main(self.path, "-o", out, "--style", "paper")
+        self.assertEqual(status, 0, err)
+        pixels = matplotlib.image.imread(out / "run-section-q2both.png")
+        self.assertEqual(pixels.shape[:2], (540, 680))  # 2.7 x 3.4 in (86 mm) at 200 dpi
+        status, _, err = run_main(self.path, "-o", out, "--style", "paper", "--format", "pdf")
+        self.assertEqual(status, 0, err)
+        self.assertEqual((out / "run-summary.pdf").read_bytes()[:5], b"%PDF-")
+        # Its type: 7 pt serif, 10 pt titles scaled to 7 pt; the screen style after it unchanged.
+        with matplotlib.rc_context(plot.STYLES["paper"]["rc"]):
+            plot.style = plot.STYLES["paper"]
+            try:
+                ax = self.axes_of("section-q2both")
+                self.assertEqual(ax.title.get_fontsize(), 7.0)
+                self.assertEqual(ax.xaxis.get_label().get_fontfamily(), ["serif"])
+            finally:
+                plot.style = plot.STYLES["screen"]
+        self.assertEqual(self.axes_of("section-q2both").title.get_fontsize(), 10.0)
+
+    def test_every_presets_section_figure_shows_several_orbits_in_several_colours(self):
+        """Each preset's sections, run small (the tori and chaos presets at their own orbits),
+        drawn as the tool draws them by default: points of more than one orbit, coloured with more
+        than one value, or, capped, a density of more than one count."""
+        presets = sorted((small_run.SOURCE_DIR / "ensembles" / "presets").glob("*.toml"))
+        checked = 0
+        for preset in presets:
+            config = tomllib.loads(preset.read_text())
+            if "section" not in config or "sweep" in config:
+                continue
+            with self.subTest(preset=preset.stem):
+                sets = ["--set", "run.steps=3000"]
+                if "orbits" in config.get("ensemble", {}) and not preset.stem.startswith(
+                        ("tori", "chaos")):
+                    sets += ["--set", "ensemble.orbits=300", "--set", "run.steps=300"]
+                out = self.dir / f"{preset.stem}.h5"
+                small_run.qmaps(self.dir, "run", preset, *sets, "--set", "output.per_orbit=true",
+                                "--out", out, "--quiet").check_returncode()
+                run = plot.qmaps_h5.load(out)
+                colour = plot.default_colouring(run)
+                for name in run["sections"].groups:
+                    g = run["sections/" + name]
+                    self.assertGreater(len(np.unique(g.datasets["orbit"])), 1, name)
+                    fig = plt.figure()
+                    self.addCleanup(plt.close, fig)
+                    ax = fig.add_subplot()
+                    dict(plot.items(run, colour))["section-" + name](ax)
+                    if g.attrs["crossings"] > len(g.datasets["x"]):  # capped: the density
+                        shown = ax.images[0].get_array().compressed()
+                    else:
+                        shown = ax.collections[0].get_array()
+                    self.assertGreater(len(np.unique(shown)), 1, f"{name} coloured by {colour}")
+                    checked += 1
+        self.assertGreaterEqual(checked, 10)
 
     def test_capped_section_shows_its_density(self):
         g = self.loaded["sections/q1up"]
