@@ -695,6 +695,17 @@ TEST_F(Cli, InfoSummarisesARun) {
   EXPECT_NE(escaped, "0") << "a bound of 0.6 lets some orbits escape";
 }
 
+// A run written without per-orbit datasets has its counts and histograms summarised.
+TEST_F(Cli, InfoSummarisesARunWithoutPerOrbitData) {
+  ASSERT_EQ(run_config(config, {"--set", "output.per_orbit=false"}).status, 0);
+  const Result r = run({"info", output}, dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const std::string& part : std::vector<std::string>{
+           "escaped:    0\n", "(no per-orbit data: its histogram of log10)\n",
+           "  H     72 bins over log10_relative_drift, 100 samples"})
+    EXPECT_TRUE(Contains(r.out, part)) << r.out;
+}
+
 TEST_F(Cli, InfoRejectsMissingAndForeignFiles) {
   const Result missing = run({"info", "missing.h5"}, dir);
   EXPECT_EQ(missing.status, 3);

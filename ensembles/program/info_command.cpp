@@ -133,13 +133,18 @@ int describe(const std::string& path, std::ostream& out) {
   if (root.has_attr("rejected")) out << ", rejected " << root.attr_int64("rejected");
   out << '\n';
 
-  const auto escape = root.open_group("escape");
-  const auto reasons = escape.read_int64("reason", orbits);
+  // A run written with [output] per_orbit = false has no per-orbit datasets: its counts and
+  // histograms only.
+  const bool per_orbit = root.has("escape");
+  std::vector<std::uint8_t> alive;
   std::map<std::int64_t, std::int64_t> by_reason;
-  std::vector<std::uint8_t> alive(reasons.size());
-  for (std::size_t i = 0; i < reasons.size(); ++i) {
-    alive[i] = reasons[i] == 0;
-    if (reasons[i] != 0) ++by_reason[reasons[i]];
+  if (per_orbit) {
+    const auto reasons = root.open_group("escape").read_int64("reason", orbits);
+    alive.resize(reasons.size());
+    for (std::size_t i = 0; i < reasons.size(); ++i) {
+      alive[i] = reasons[i] == 0;
+      if (reasons[i] != 0) ++by_reason[reasons[i]];
+    }
   }
   out << "escaped:    " << root.attr_int64("escaped");
   for (const auto& [reason, count] : by_reason)
@@ -148,15 +153,20 @@ int describe(const std::string& path, std::ostream& out) {
   out << (by_reason.empty() ? "" : ")") << '\n';
 
   const auto invariants = root.open_group("invariants");
-  out << "invariants: relative drift max|I_n - I_0|/|I_0| over the orbits never escaped\n";
+  out << "invariants: relative drift max|I_n - I_0|/|I_0| over the orbits never escaped"
+      << (per_orbit ? "" : " (no per-orbit data: its histogram of log10)") << '\n';
   for (const auto& name : invariants.members()) {
     if (name == "image") continue;
     const auto inv = invariants.open_group(name);
+    out << "  " << name << std::string(name.size() < 6 ? 6 - name.size() : 1, ' ');
+    if (!per_orbit) {
+      out << histogram_text(inv.open_group("drift_histogram"), "counts") << '\n';
+      continue;
+    }
     const auto initial = inv.read_doubles("initial", orbits),
                drift = inv.read_doubles("max_abs_drift", orbits);
     const DriftSummary s(initial, drift, alive);
-    out << "  " << name << std::string(name.size() < 6 ? 6 - name.size() : 1, ' ') << "worst "
-        << g(s.percentile(1)) << ", median " << g(s.percentile(0.5)) << '\n';
+    out << "worst " << g(s.percentile(1)) << ", median " << g(s.percentile(0.5)) << '\n';
   }
   if (invariants.has("image"))
     out << "invariant image: " << histogram_text(invariants.open_group("image"), "counts") << '\n';
