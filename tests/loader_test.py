@@ -1,4 +1,4 @@
-"""tools/qmaps_h5.py: every object docs/hdf5-schema.md lists comes back under its name, datasets
+"""qmaps.load (python/qmaps/runfile.py): every object docs/hdf5-schema.md lists comes back under its name, datasets
 with the file's values, dtype and shape, attributes as str, int or float by their documented type;
 skipped datasets are not read; unreadable files are clear errors. The Python examples of the README,
 docs/python.md and docs/hdf5-schema.md run as written on a run named suris.h5."""
@@ -15,8 +15,7 @@ import numpy as np
 import schema_doc
 import small_run
 
-sys.path.insert(0, str(small_run.TOOLS))
-import qmaps_h5  # noqa: E402
+import qmaps  # noqa: E402
 
 PYTHON_TYPE = {"string": str, "int64": int, "float64": float}
 NUMPY_TYPE = {"int64": np.int64, "float64": np.float64, "uint8": np.uint8}
@@ -29,7 +28,7 @@ class Loader(unittest.TestCase):
         cls.paths = small_run.every_layout(cls.tmp.name)
         cls.path = cls.paths[0]
         cls.schema = schema_doc.Schema(small_run.SOURCE_DIR / "docs" / "hdf5-schema.md")
-        cls.loaded = qmaps_h5.load(cls.path)
+        cls.loaded = qmaps.load(cls.path)
 
     @classmethod
     def tearDownClass(cls):
@@ -39,14 +38,14 @@ class Loader(unittest.TestCase):
         seen = set()
         for path in self.paths:
             with self.subTest(file=path.name):
-                self.round_trip(path, qmaps_h5.load(path), seen)
+                self.round_trip(path, qmaps.load(path), seen)
         self.assertEqual(seen, set(self.schema.entries), "the runs cover every documented object")
 
     def round_trip(self, path, run, seen):
         with h5py.File(path, "r") as f:
             def check(h5group):
                 loaded = run[h5group.name] if h5group.name != "/" else run
-                self.assertIsInstance(loaded, qmaps_h5.Group)
+                self.assertIsInstance(loaded, qmaps.Group)
                 self.assertEqual(loaded.path, h5group.name)
                 self.assertEqual(set(loaded.attrs), set(h5group.attrs))
                 for name, value in h5group.attrs.items():
@@ -86,7 +85,7 @@ class Loader(unittest.TestCase):
         for path, counts in (("histograms/q1q2", "counts"), ("histograms/p1", "counts"),
                              ("sections/q1up", "density"), ("invariants/image", "counts")):
             g = self.loaded[path]
-            h = qmaps_h5.Histogram.of(g, counts)
+            h = qmaps.Histogram.of(g, counts)
             with self.subTest(path=path):
                 self.assertIs(h.counts, g.datasets[counts])
                 self.assertEqual(len(h.edges), h.counts.ndim)
@@ -95,7 +94,7 @@ class Loader(unittest.TestCase):
                 self.assertEqual(h.samples, h.counts.sum() + h.underflow + h.overflow)
 
     def test_skipped_datasets_are_not_read(self):
-        run = qmaps_h5.load(self.path, skip=("final/*", "invariants/*/max_abs_drift"))
+        run = qmaps.load(self.path, skip=("final/*", "invariants/*/max_abs_drift"))
         self.assertEqual(run["final"].datasets, {})
         self.assertEqual(run["final/state"].datasets, {})
         self.assertEqual(run["final/state"].attrs, self.loaded["final/state"].attrs)
@@ -125,13 +124,13 @@ class Loader(unittest.TestCase):
         small_run.qmaps(self.tmp.name, "run", small_run.PRESET, "--set", "output.per_orbit=false",
                         "--set", "ensemble.orbits=100", "--set", "run.steps=10", "--out", path,
                         "--quiet").check_returncode()
-        with qmaps_h5.load(path) as run, self.assertRaises(qmaps_h5.QmapsFileError) as caught:
+        with qmaps.load(path) as run, self.assertRaises(qmaps.FileError) as caught:
             run.to_pandas()
         self.assertEqual(str(caught.exception), f"{path}: no per-orbit datasets (the run was "
                          "written with [output] per_orbit = false)")
 
     def test_slices_read_from_the_file_and_close_ends_reading(self):
-        run = qmaps_h5.load(self.path)
+        run = qmaps.load(self.path)
         x = run.dataset("sections/q1up/x")
         np.testing.assert_array_equal(x[:10], self.loaded["sections/q1up/x"][:10])
         with self.assertRaises(KeyError):
@@ -150,14 +149,13 @@ class Loader(unittest.TestCase):
         self.assertGreater(os.path.getsize(path), 150e6)
         script = f"""
 import sys
-sys.path.insert(0, {str(small_run.TOOLS)!r})
-import numpy, h5py, qmaps_h5
+import numpy, h5py, qmaps
 def rss():
     for line in open("/proc/self/status"):
         if line.startswith("VmRSS:"):
             return int(line.split()[1]) * 1024
 start = rss()
-run = qmaps_h5.load({path!r})
+run = qmaps.load({path!r})
 opened = rss()
 run["initial/q1"].sum()
 read = rss()
@@ -181,8 +179,8 @@ print(opened - start, read - opened)
             f.attrs["something"] = 1
         for path, why in ((missing, "no such file"), (text, "not an HDF5 file"),
                           (foreign, "not a qmaps run (no schema_version attribute)")):
-            with self.subTest(why=why), self.assertRaises(qmaps_h5.QmapsFileError) as caught:
-                qmaps_h5.load(path)
+            with self.subTest(why=why), self.assertRaises(qmaps.FileError) as caught:
+                qmaps.load(path)
             self.assertEqual(str(caught.exception), f"{path}: {why}")
 
 
@@ -192,7 +190,6 @@ class DocumentedExamples(unittest.TestCase):
                                                      "docs/hdf5-schema.md")]
         with tempfile.TemporaryDirectory() as tmp:
             small_run.small_run(tmp, orbits=200, steps=50, name="suris.h5")
-            os.symlink(small_run.TOOLS, os.path.join(tmp, "tools"))
             ran = 0
             for page in pages:
                 for block in re.findall(r"^```python\n(.*?)^```", page.read_text(), re.M | re.S):

@@ -1,11 +1,9 @@
-"""tools/qmaps-plot on a small run with every kind of observer: it writes the predictable names at
+"""qmaps-plot (qmaps.plot) on a small run with every kind of observer: it writes the predictable names at
 the documented pixel sizes (6.4 x 4.8 in, summary panels 5 x 4 in, at --dpi), every image has
 content, each panel draws what the file holds (log colour scale, points coloured by their orbit's
 invariant or chaos indicator, density when capped, machine epsilon), and bad input is a clear error that writes
 nothing."""
 import contextlib
-import importlib.machinery
-import importlib.util
 import io
 import math
 import pathlib
@@ -26,18 +24,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 import small_run  # noqa: E402
+import qmaps  # noqa: E402
+from qmaps import plot  # noqa: E402
 
 SCRIPT = small_run.TOOLS / "qmaps-plot"
-
-
-def load_script():
-    loader = importlib.machinery.SourceFileLoader("qmaps_plot", str(SCRIPT))
-    module = importlib.util.module_from_spec(importlib.util.spec_from_loader("qmaps_plot", loader))
-    loader.exec_module(module)
-    return module
-
-
-plot = load_script()
 
 KINDS = ["histogram-p1", "histogram-q1q2", "section-q1up", "section-q2both", "drift",
          "energy-momentum"]
@@ -66,7 +56,7 @@ class PlotTool(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.dir = pathlib.Path(cls.tmp.name)
         cls.path = small_run.small_run(cls.dir, orbits=1000, steps=200, name="run.h5")
-        cls.loaded = plot.qmaps_h5.load(cls.path)
+        cls.loaded = qmaps.load(cls.path)
 
     @classmethod
     def tearDownClass(cls):
@@ -188,7 +178,7 @@ class PlotTool(unittest.TestCase):
         occupied = np.nonzero(counts.any(axis=1))[0]
         self.assertEqual(ax.get_xlim(), (edges[occupied[0]], edges[occupied[-1] + 1]))
         # A range that cuts points: the picture says how many.
-        cut = plot.qmaps_h5.load(self.path)
+        cut = qmaps.load(self.path)
         section = cut["sections/q2both"]
         section.datasets["x_edges"] = np.linspace(-0.1, 0.1, 65)
         fig = plt.figure()
@@ -259,7 +249,7 @@ class PlotTool(unittest.TestCase):
                 out = self.dir / f"{preset.stem}.h5"
                 small_run.qmaps(self.dir, "run", preset, *sets, "--set", "output.per_orbit=true",
                                 "--out", out, "--quiet").check_returncode()
-                run = plot.qmaps_h5.load(out)
+                run = qmaps.load(out)
                 colour = plot.default_colouring(run)
                 for name in run["sections"].groups:
                     g = run["sections/" + name]
@@ -287,7 +277,7 @@ class PlotTool(unittest.TestCase):
 
     def test_run_without_steps_draws_empty_panels_as_such(self):
         path = small_run.small_run(self.dir, orbits=50, steps=0, name="still.h5")
-        still = plot.qmaps_h5.load(path)
+        still = qmaps.load(path)
         self.assertEqual(len(still["sections/q2both/x"]), 0)
         for kind, says in (("section-q2both", "no points kept"), ("section-q2both", "no samples"),
                            ("drift", "no drift other than 0")):

@@ -1,16 +1,23 @@
 """A small run of the qmaps binary with every kind of observer, for the Python tests.
 
 CMake passes the binary and the source tree as QMAPS_BINARY and QMAPS_SOURCE_DIR; run by hand,
-they default to build/qmaps and this checkout.
+they default to build/qmaps and this checkout. The package qmaps is the build tree's
+(<binary's folder>/python, with its engine), for this process and the ones it starts.
 """
 import os
 import pathlib
 import subprocess
+import sys
 
 SOURCE_DIR = pathlib.Path(os.environ.get("QMAPS_SOURCE_DIR", pathlib.Path(__file__).parent.parent))
 BINARY = pathlib.Path(os.environ.get("QMAPS_BINARY", SOURCE_DIR / "build" / "qmaps"))
 PRESET = SOURCE_DIR / "ensembles" / "presets" / "suris.toml"
 TOOLS = SOURCE_DIR / "tools"
+PACKAGE_DIR = BINARY.parent / "python"
+if str(PACKAGE_DIR) not in os.environ.get("PYTHONPATH", "").split(os.pathsep):
+    os.environ["PYTHONPATH"] = os.pathsep.join(
+        p for p in (str(PACKAGE_DIR), os.environ.get("PYTHONPATH")) if p)
+sys.path.insert(0, str(PACKAGE_DIR))
 
 
 def q2_section(name, mode):

@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "ensembles/kinds/box.hpp"
 #include "ensembles/kinds/from_file.hpp"
+#include "ensembles/kinds/given_points.hpp"
 #include "ensembles/kinds/grid.hpp"
 #include "ensembles/kinds/line.hpp"
 #include "ensembles/kinds/shell.hpp"
@@ -82,6 +83,17 @@ InitialConditions InitialConditions::from_config(const Config& config, const Mod
   if (!ic.generator_)
     throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + ic.kind_ +
                       "' (known: " + kinds() + ")");
+  return ic;
+}
+
+InitialConditions InitialConditions::of_points(const Config& config,
+                                               std::shared_ptr<const std::vector<Phase>> points) {
+  if (config.has_section("ensemble"))
+    throw usage_error(config.where("ensemble") +
+                      ": the initial conditions are given as points; leave out [ensemble]");
+  InitialConditions ic;
+  ic.kind_ = "points";
+  ic.generator_ = std::make_shared<GivenPoints>(std::move(points));
   return ic;
 }
 

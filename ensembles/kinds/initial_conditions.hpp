@@ -38,6 +38,10 @@ class InitialConditions {
 
   // Reads [ensemble] kind (default "box") and that kind's keys; every error names its key.
   static InitialConditions from_config(const Config& config, const Model& model);
+  // The caller's points (kind "points"): orbit i starts at points[i]; the configuration must then
+  // have no [ensemble] table.
+  static InitialConditions of_points(const Config& config,
+                                     std::shared_ptr<const std::vector<Phase>> points);
 
   const std::string& kind() const { return kind_; }
   const EnsembleKind& generator() const { return *generator_; }

@@ -1,9 +1,14 @@
 #pragma once
 // The qmaps subcommands, as functions of their parsed options (ensembles/program/main.cpp parses them).
+#include <functional>
 #include <iosfwd>
+#include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
+
+#include "core/phase.hpp"
 
 namespace qmaps {
 
@@ -17,6 +22,13 @@ struct RunOptions {
   std::string simd = "auto";
   bool quiet = false;
   std::string command_line;
+  // For a caller in the same process (the Python module):
+  std::string config_text;    // the configuration itself, when config_path is empty,
+  std::string config_source;  // and the name its messages give it
+  std::shared_ptr<const std::vector<Phase>> points;  // the orbits' starting points, for [ensemble]
+  std::string write_to;       // the file written, [output] file left as configured
+  bool checkpoint_on_interrupt = true;  // false: a signal stops the run with nothing written
+  std::function<void(long long step, long long total)> on_segment;  // after each segment
 };
 
 struct MergeOptions {
@@ -61,6 +73,12 @@ struct DiscoverOptions {
 // Each returns the process exit code; errors are thrown as qmaps::Error.
 int run_command(const RunOptions& options, std::ostream& log);
 int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& log);
+// qmaps orbit's table, for a caller that keeps it: `columns` gets the names (n first), `row`
+// each row's values in that order. Returns why the rows stopped early (an escape), or "".
+using OrbitColumns = std::function<void(const std::vector<std::string>&)>;
+using OrbitRow = std::function<void(std::span<const double>)>;
+std::string orbit_rows(const OrbitOptions& options, const OrbitColumns& columns,
+                       const OrbitRow& row);
 int list_command(std::ostream& out);
 int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);

@@ -27,22 +27,10 @@ Phase parse_ic(const std::string& text) {
   return {x[0], x[1], x[2], x[3]};
 }
 
-// One CSV row: n, then the trajectory row (docs/hdf5-schema.md), without t where the map's
-// physical time is n h.
-void row(std::ostream& out, const Model& model, const Model& continuous, const Ensemble& e) {
-  const std::vector<double> values = trajectory_row(model, continuous, e, 0);
-  char buf[64];
-  out << e.step;
-  for (std::size_t k = model.time_per_orbit() ? 0 : 1; k < values.size(); ++k) {
-    std::snprintf(buf, sizeof buf, ",%.17g", values[k]);
-    out << buf;
-  }
-  out << '\n';
-}
-
 }  // namespace
 
-int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
+std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
+                       const OrbitRow& row) {
   // With --chaos the map advances its chaos record with the state (core/tangent_map.hpp): the
   // same steps, bit for bit, and the indicators of the orbit so far on every row.
   const auto model = o.chaos ? make_model(o.map, parse_params(o.sets), ChaosOptions{true, 10})
@@ -69,29 +57,53 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
   // error shows beside its own exact invariants.
   // At n = 0 the exponents and ⟨Y⟩ are not yet defined (0/0: NaN).
   const auto continuous = continuous_model(*model);
-  const std::vector<std::string> columns = trajectory_columns(*model);
-  out << 'n';
-  for (std::size_t k = model->time_per_orbit() ? 0 : 1; k < columns.size(); ++k)
-    out << ',' << columns[k];
-  out << '\n';
+  // n, then the trajectory row (docs/hdf5-schema.md), without t where the map's physical time
+  // is n h.
+  const std::size_t from = model->time_per_orbit() ? 0 : 1;
+  std::vector<std::string> columns = trajectory_columns(*model);
+  columns.erase(columns.begin(), columns.begin() + static_cast<std::ptrdiff_t>(from));
+  columns.insert(columns.begin(), "n");
+  columns_of(columns);
   RunPlan plan;
   plan.total = o.steps;
   plan.escape_bound = o.escape_bound;
   plan.track_invariants = false;
   for (long long n = 0;;) {
-    if (e.escape_step[0] >= 0) {
-      log << "qmaps orbit: the orbit escaped at step " << e.escape_step[0] << " ("
-          << escape_reason_name(static_cast<EscapeReason>(e.escape_reason[0]))
-          << "); rows stop before it\n";
-      return 0;
-    }
-    row(out, *model, *continuous, e);
+    if (e.escape_step[0] >= 0)
+      return "the orbit escaped at step " + std::to_string(e.escape_step[0]) + " (" +
+             std::string(escape_reason_name(static_cast<EscapeReason>(e.escape_reason[0]))) +
+             "); rows stop before it";
+    std::vector<double> values = trajectory_row(*model, *continuous, e, 0);
+    // n in place of t where t is n h, else before it.
+    if (from > 0) values[0] = static_cast<double>(e.step);
+    else values.insert(values.begin(), static_cast<double>(e.step));
+    row(values);
     if (n >= o.steps) break;
     plan.first = n;
     plan.last = std::min(o.steps, n + o.every);
     model->advance(e, plan, Execution{});
     n = plan.last;
   }
+  return "";
+}
+
+int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
+  char buf[64];
+  const std::string escaped = orbit_rows(
+      o,
+      [&](const std::vector<std::string>& columns) {
+        for (std::size_t k = 0; k < columns.size(); ++k) out << (k ? "," : "") << columns[k];
+        out << '\n';
+      },
+      [&](std::span<const double> values) {
+        out << static_cast<long long>(values[0]);
+        for (std::size_t k = 1; k < values.size(); ++k) {
+          std::snprintf(buf, sizeof buf, ",%.17g", values[k]);
+          out << buf;
+        }
+        out << '\n';
+      });
+  if (!escaped.empty()) log << "qmaps orbit: " << escaped << '\n';
   return 0;
 }
 

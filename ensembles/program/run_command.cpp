@@ -66,8 +66,15 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     r.observers.merge(std::move(part));
     const double took = progress.seconds() - t;
     progress.update(e.step);
+    if (options.on_segment) options.on_segment(e.step, r.plan.total);
     if (e.step == r.plan.total) break;
     self_signal.deliver_if_due(e.step);
+    if (interrupt.requested() && !options.checkpoint_on_interrupt) {
+      progress.end();
+      log << "qmaps: " << signal_name(interrupt.signal()) << " at step " << e.step << " of "
+          << r.plan.total << ": stopped, nothing written\n";
+      return static_cast<int>(ExitCode::interrupted);
+    }
     if (interrupt.requested()) {
       save();
       progress.end();
@@ -170,10 +177,12 @@ int run_command(const RunOptions& options, std::ostream& log) {
   // A signal from here on is answered after the first segment: the run stops with a checkpoint.
   const InterruptGuard interrupt;
   if (!options.resume.empty()) return resume_command(options, interrupt, log);
-  if (options.config_path.empty())
+  if (options.config_path.empty() && options.config_source.empty())
     throw usage_error("qmaps run needs a config file, or --resume <output>.ckpt");
   const std::string started = utc_now();
-  Config config = Config::load(options.config_path);
+  Config config = options.config_path.empty()
+                      ? Config::parse(options.config_text, options.config_source)
+                      : Config::load(options.config_path);
   for (const auto& s : options.sets) config.set(s);
   // A shard's --out names its own file: the configuration keeps the whole run's output, which
   // every shard of the run must share.
@@ -184,7 +193,9 @@ int run_command(const RunOptions& options, std::ostream& log) {
     if (!options.shard.empty()) throw usage_error("--shard splits a run's orbits, not a sweep's points");
     return run_sweep(config, *sweep, options, started, interrupt, log);
   }
-  const auto initial_conditions = InitialConditions::from_config(config, *model);
+  const auto initial_conditions = options.points
+                                      ? InitialConditions::of_points(config, options.points)
+                                      : InitialConditions::from_config(config, *model);
   Run r = run_of(config, std::move(model), initial_conditions.orbits(), options);
   r.kind = initial_conditions.kind();
   r.rejects_points = initial_conditions.generator().rejects_points();

@@ -122,12 +122,15 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.image = invariant_image_from_config(config, *r.model);
   r.chaos = chaos_report_of(config);
 
-  r.path = config.string("output", "file");
+  // The caller's file (qmaps.run) makes [output] file a name the configuration may keep.
+  r.path = options.write_to.empty() ? config.string("output", "file")
+                                    : config.string_or("output", "file", "");
   // A shard's file: --out, or the output's name with ".shard-k-of-K".
   if (r.shard)
     r.path = !options.out.empty() ? options.out
                                   : r.path + ".shard-" + std::to_string(r.shard->index) + "-of-" +
                                         std::to_string(r.shard->count);
+  if (!options.write_to.empty()) r.path = options.write_to;
   // Every name the run derives from the output's must be legal before the run starts: the
   // longest is the checkpoint's temporary, "<name>.ckpt.tmp-<pid>".
   const auto slash = r.path.rfind('/');

@@ -51,7 +51,8 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
     std::unique_ptr<Model> model;
     try {  // the point's own map and, for a shell, its own energy surface
       model = map_of(point, chaos_options_of(point));
-      starts.push_back(InitialConditions::from_config(point, *model));
+      starts.push_back(options.points ? InitialConditions::of_points(point, options.points)
+                                      : InitialConditions::from_config(point, *model));
     } catch (const Error& e) {
       throw Error(e.code(), "[[sweep]] " + sweep.label(k) + ": " + e.what());
     }
@@ -123,6 +124,7 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
     const double took = progress.seconds() - t;
     step = segment.last;
     progress.update(step);
+    if (options.on_segment) options.on_segment(step, plan.total);
     if (step == plan.total) break;
     self_signal.deliver_if_due(step);
     if (interrupt.requested()) {

@@ -1,8 +1,7 @@
-"""Opens a qmaps run file (docs/hdf5-schema.md) lazily, under the schema's names.
+"""A qmaps run file (docs/hdf5-schema.md), opened lazily under the schema's names.
 
-    import sys; sys.path.insert(0, "tools")
-    import qmaps_h5
-    with qmaps_h5.load("suris.h5") as run:
+    import qmaps
+    with qmaps.load("suris.h5") as run:
         run.attrs["map"], run.params["h"], run["invariants/H/initial"]
         frame = run.to_pandas()           # one row per orbit
 
@@ -15,15 +14,14 @@ import collections.abc
 import dataclasses
 import fnmatch
 import os
+import shutil
 
 import h5py
 import numpy as np
 
+from .errors import FileError
+
 SCHEMA_VERSION = 1  # the version docs/hdf5-schema.md describes
-
-
-class QmapsFileError(Exception):
-    """A file that cannot be read as a qmaps run; the message names the file and why."""
 
 
 def _decode(value):
@@ -138,6 +136,8 @@ class Run(Group):
     file open until `close()` (or the end of a `with` block)."""
     file: str = ""
     h5file: object = None
+    owned: str = ""  # a folder removed with the file on close() (a run of qmaps.run)
+    log: str = ""  # the engine's summary lines (a run of qmaps.run)
 
     @property
     def params(self):
@@ -149,6 +149,10 @@ class Run(Group):
         """The map's invariants ("H", "I1", ...), as in the file (not the energy-momentum image)."""
         return [n for n in self.groups["invariants"].groups if n != "image"]
 
+    def histogram(self, name):
+        """The Histogram of /histograms/<name> (counts, edges, axes, under- and overflow)."""
+        return Histogram.of(self["histograms/" + name])
+
     def dataset(self, path):
         """The h5py dataset at `path` ("sections/q1up/x"): its slices read only what they ask."""
         group, _, name = path.strip("/").rpartition("/")
@@ -158,7 +162,7 @@ class Run(Group):
     def per_orbit(self):
         """{column: array of shape (orbits,)}: every per-orbit dataset of /initial, /final (with
         its raw state), /escape, /invariants and /chaos, named by its path with "." for "/"
-        ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises QmapsFileError when
+        ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises FileError when
         the file has none (a run written with per_orbit = false)."""
         orbits = self.attrs["orbits"]
         columns = {}
@@ -174,7 +178,7 @@ class Run(Group):
             if name in self.groups:
                 visit(self.groups[name], name + ".")
         if not columns:
-            raise QmapsFileError(f"{self.file}: no per-orbit datasets (the run was written with "
+            raise FileError(f"{self.file}: no per-orbit datasets (the run was written with "
                                  "[output] per_orbit = false)")
         return columns
 
@@ -195,10 +199,34 @@ class Run(Group):
         return xarray.Dataset(variables, coords={"orbit": np.arange(self.attrs["orbits"])},
                               attrs=attrs)
 
+    def save(self, path):
+        """Writes the file, as it is, to `path`: under a temporary name first, renamed when
+        complete, so that `path` is never a partial file."""
+        path = os.fspath(path)
+        temporary = f"{path}.tmp-{os.getpid()}"
+        try:
+            shutil.copyfile(self.file, temporary)
+            os.replace(temporary, path)
+        except OSError as e:
+            if os.path.exists(temporary):
+                os.remove(temporary)
+            raise FileError(f"cannot write '{path}': {e.strerror or e}") from e
+
     def close(self):
-        """Closes the file: datasets not read by then can no longer be."""
+        """Closes the file: datasets not read by then can no longer be; arrays already read stay
+        valid. A run of qmaps.run removes its file then (save() it first to keep it)."""
         if self.h5file is not None:
             self.h5file.close()
+            self.h5file = None
+        if self.owned:
+            shutil.rmtree(self.owned, ignore_errors=True)
+            self.owned = ""
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:  # at the interpreter's exit h5py may be gone before us
+            pass
 
     def __enter__(self):
         return self
@@ -231,15 +259,15 @@ def _load_group(h5group, group, skip):
 def load(path, skip=()):
     """The run in the file at `path`, opened lazily: attributes and the tree are read now, each
     dataset when first asked for. Datasets whose path (without the leading /) matches a pattern
-    of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises QmapsFileError
+    of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises FileError
     when the file is missing, not HDF5 or not a qmaps run."""
     path = os.fspath(path)
     if not os.path.isfile(path):
-        raise QmapsFileError(f"{path}: no such file")
+        raise FileError(f"{path}: no such file")
     if not h5py.is_hdf5(path):
-        raise QmapsFileError(f"{path}: not an HDF5 file")
+        raise FileError(f"{path}: not an HDF5 file")
     f = h5py.File(path, "r")
     if "schema_version" not in f.attrs:
         f.close()
-        raise QmapsFileError(f"{path}: not a qmaps run (no schema_version attribute)")
+        raise FileError(f"{path}: not a qmaps run (no schema_version attribute)")
     return _load_group(f, Run("/", file=path, h5file=f), skip)

@@ -1,0 +1,164 @@
+// qmaps._engine: the commands of the qmaps program as Python functions, in process. The package
+// (python/qmaps/__init__.py) wraps them; docs/python.md documents both.
+//   run(...)    qmaps run: the same configuration checks, the same runner, the same file
+//   orbit(...)  qmaps orbit's table as a (rows, columns) float64 array
+//   maps()      qmaps list's catalogue
+// qmaps::Error becomes the package's ConfigError (bad configuration or parameters), FileError
+// (a file that cannot be read or written), UnsupportedError (an ISA this CPU lacks) or Error; a
+// signal that stopped a run becomes KeyboardInterrupt.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "core/error.hpp"
+#include "core/version.hpp"
+#include "ensembles/program/commands.hpp"
+#include "ensembles/program/interrupt.hpp"
+#include "kernels/catalogue.hpp"
+
+namespace py = pybind11;
+
+namespace {
+
+using qmaps::ExitCode;
+
+// The package's exception class for an exit code (qmaps/errors.py).
+py::object error_class(ExitCode code) {
+  const py::module_ errors = py::module_::import("qmaps.errors");
+  switch (code) {
+    case ExitCode::usage: return errors.attr("ConfigError");
+    case ExitCode::io: return errors.attr("FileError");
+    case ExitCode::unsupported: return errors.attr("UnsupportedError");
+    default: return errors.attr("Error");
+  }
+}
+
+std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
+    const py::array_t<double, py::array::c_style | py::array::forcecast>& points) {
+  if (points.ndim() != 2 || points.shape(1) != 4)
+    throw qmaps::usage_error("initial conditions: expected an array of shape (orbits, 4), got " +
+                             std::to_string(points.ndim()) + " dimensions");
+  auto out = std::make_shared<std::vector<qmaps::Phase>>(static_cast<std::size_t>(points.shape(0)));
+  std::memcpy(out->data(), points.data(), out->size() * sizeof(qmaps::Phase));
+  return out;
+}
+
+// qmaps run, writing to `write_to`; returns the log it wrote (the summary lines), or raises.
+std::string run(const std::string& config_path, const std::string& config_text,
+                const std::string& config_source, const std::vector<std::string>& sets,
+                const std::string& write_to, int threads, const std::string& simd,
+                const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
+                const py::object& progress, const std::string& command_line) {
+  qmaps::RunOptions o;
+  o.config_path = config_path;
+  o.config_text = config_text;
+  o.config_source = config_source;
+  o.sets = sets;
+  o.write_to = write_to;
+  o.threads = threads;
+  o.simd = simd;
+  o.quiet = true;
+  o.command_line = command_line;
+  o.checkpoint_on_interrupt = false;
+  if (points) o.points = points_of(*points);
+  if (!progress.is_none())
+    o.on_segment = [&progress](long long step, long long total) {
+      const py::gil_scoped_acquire gil;
+      progress(step, total);
+    };
+  std::ostringstream log;
+  int code = 0;
+  {
+    const py::gil_scoped_release released;  // other Python threads run while this one steps
+    code = qmaps::run_command(o, log);
+  }
+  if (code == static_cast<int>(ExitCode::interrupted)) {
+    std::string message = log.str();
+    while (!message.empty() && message.back() == '\n') message.pop_back();
+    PyErr_SetString(PyExc_KeyboardInterrupt, message.c_str());
+    throw py::error_already_set();
+  }
+  return log.str();
+}
+
+// qmaps orbit's rows: (columns, values of shape (rows, columns), why the rows stopped early).
+py::tuple orbit(const std::string& map, const std::vector<std::string>& sets, const std::string& ic,
+                long long steps, long long every, const std::string& start, double escape_bound,
+                bool chaos, std::optional<double> energy) {
+  qmaps::OrbitOptions o;
+  o.map = map;
+  o.sets = sets;
+  o.ic = ic;
+  o.steps = steps;
+  o.every = every;
+  o.start = start;
+  o.escape_bound = escape_bound;
+  o.chaos = chaos;
+  o.energy = energy;
+  std::vector<std::string> columns;
+  std::vector<double> values;
+  std::string escaped;
+  {
+    const py::gil_scoped_release released;
+    values.reserve(static_cast<std::size_t>(std::max(0LL, steps / std::max(1LL, every)) + 1) * 12);
+    escaped = qmaps::orbit_rows(
+        o, [&](const std::vector<std::string>& c) { columns = c; },
+        [&](std::span<const double> row) { values.insert(values.end(), row.begin(), row.end()); });
+  }
+  const auto width = static_cast<py::ssize_t>(columns.size());
+  py::array_t<double> table({static_cast<py::ssize_t>(values.size()) / width, width});
+  std::memcpy(table.mutable_data(), values.data(), values.size() * sizeof(double));
+  return py::make_tuple(columns, table, escaped);
+}
+
+py::list maps() {
+  py::list out;
+  for (const auto& m : qmaps::catalogue()) {
+    py::list params;
+    for (const auto& p : m.params) {
+      py::dict d;
+      d["name"] = std::string(p.name);
+      d["meaning"] = std::string(p.meaning);
+      d["default"] = std::isnan(p.default_value) ? py::object(py::none()) : py::float_(p.default_value);
+      d["required"] = p.required();
+      params.append(d);
+    }
+    py::dict d;
+    d["name"] = std::string(m.name);
+    d["summary"] = std::string(m.summary);
+    d["equations"] = std::string(m.equations);
+    d["invariants"] = std::string(m.invariant_summary);
+    d["parameters"] = params;
+    out.append(d);
+  }
+  return out;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_engine, m) {
+  m.doc() = "The qmaps engine in process (the package qmaps wraps it; docs/python.md).";
+  py::register_exception_translator([](std::exception_ptr p) {
+    try {
+      if (p) std::rethrow_exception(p);
+    } catch (const qmaps::Interrupted& e) {  // a signal before the run began
+      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+    } catch (const qmaps::Error& e) {
+      PyErr_SetString(error_class(e.code()).ptr(), e.what());
+    }
+  });
+  m.def("run", &run, py::arg("config_path"), py::arg("config_text"), py::arg("config_source"),
+        py::arg("sets"), py::arg("write_to"), py::arg("threads"), py::arg("simd"),
+        py::arg("points"), py::arg("progress"), py::arg("command_line"));
+  m.def("orbit", &orbit, py::arg("map"), py::arg("sets"), py::arg("ic"), py::arg("steps"),
+        py::arg("every"), py::arg("start"), py::arg("escape_bound"), py::arg("chaos"),
+        py::arg("energy"));
+  m.def("maps", &maps);
+  m.attr("version") = qmaps::build::version;
+  m.attr("commit") = qmaps::build::commit;
+}

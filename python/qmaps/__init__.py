@@ -1,0 +1,20 @@
+"""qmaps: ensembles of orbits of the integrable maps of a quartic two-degree-of-freedom
+Hamiltonian, in process (docs/python.md).
+
+    import qmaps
+    run = qmaps.run("ensembles/presets/suris.toml", ensemble={"orbits": 10000})
+    h = run.histogram("q1q2")                 # counts and edges
+    x = run["sections/q1up/x"]                # numpy arrays
+    run.save("suris.h5")                      # the file qmaps run writes
+    table = qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1},
+                        (0.1, 0.2, 0.0, 0.1), steps=1000)
+    earlier = qmaps.load("suris.h5")          # a file, opened lazily
+
+qmaps.plot draws a file's pictures (the qmaps-plot program).
+"""
+from .engine import maps, orbit, run
+from .errors import ConfigError, Error, FileError, UnsupportedError
+from .runfile import Group, Histogram, Run, load
+
+__all__ = ["run", "orbit", "maps", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
+           "FileError", "UnsupportedError"]

@@ -1,0 +1,173 @@
+"""The engine in process: run(), orbit() and maps(), the qmaps program's run, orbit and list
+commands with numpy arrays in and out (docs/python.md)."""
+import os
+import shutil
+import sys
+import tempfile
+import warnings
+
+import numpy as np
+
+from . import runfile, toml_text
+
+try:
+    from . import _engine
+except ImportError as missing:  # the package's pure-Python parts (load, plot) work without it
+    _engine = None
+    _missing = missing
+
+
+def _the_engine():
+    if _engine is None:
+        raise ImportError("qmaps._engine is not built: configure with the Python module "
+                          "(docs/python.md)") from _missing
+    return _engine
+
+
+def _config_source(config):
+    """(path, text, the name messages give it) of a configuration given as a dict, TOML text or a
+    path."""
+    if isinstance(config, dict):
+        return "", toml_text.dumps(config), "<dict>"
+    if isinstance(config, os.PathLike):
+        return os.fspath(config), "", ""
+    if isinstance(config, str):
+        if "\n" in config or "=" in config:
+            return "", config, "<text>"
+        return config, "", ""
+    raise TypeError(f"config: a dict, TOML text or a path, not {type(config).__name__}")
+
+
+def _points(initial):
+    """The (orbits, 4) float64 array (q1, q2, p1, p2) of `initial`: a dict or structured array
+    with fields q1, q2, p1, p2, four arrays, or an array of shape (orbits, 4)."""
+    names = ("q1", "q2", "p1", "p2")
+    if isinstance(initial, dict) or getattr(getattr(initial, "dtype", None), "names", None):
+        missing = [n for n in names if n not in (initial.keys() if isinstance(initial, dict)
+                                                 else initial.dtype.names)]
+        if missing:
+            from .errors import ConfigError
+            raise ConfigError(f"initial conditions: no {', '.join(missing)}")
+        columns = [np.asarray(initial[n], dtype=np.float64) for n in names]
+    elif isinstance(initial, (list, tuple)) and len(initial) == 4 and np.ndim(initial[0]) == 1:
+        columns = [np.asarray(c, dtype=np.float64) for c in initial]
+    else:
+        array = np.asarray(initial, dtype=np.float64)
+        if array.ndim != 2 or array.shape[1] != 4:
+            from .errors import ConfigError
+            raise ConfigError(f"initial conditions: expected shape (orbits, 4), got {array.shape}")
+        return np.ascontiguousarray(array)
+    if len({c.shape for c in columns}) != 1 or columns[0].ndim != 1:
+        from .errors import ConfigError
+        raise ConfigError("initial conditions: q1, q2, p1 and p2 must be 1-D arrays of one length, "
+                          f"got shapes {[c.shape for c in columns]}")
+    return np.ascontiguousarray(np.stack(columns, axis=1))
+
+
+def _progress_callback(progress):
+    if progress is None or progress is False:
+        return None, None
+    if callable(progress):
+        return progress, None
+    try:
+        import tqdm
+        bar = tqdm.tqdm(unit="step", desc="qmaps")
+    except ImportError:
+        bar = None
+
+    def show(step, total):
+        if bar is not None:
+            bar.total = total
+            bar.update(step - bar.n)
+        else:
+            print(f"\rqmaps: step {step} of {total}", end="" if step < total else "\n",
+                  file=sys.stderr, flush=True)
+
+    return show, bar
+
+
+def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(), tmpdir=None,
+        **tables):
+    """Runs a configuration as `qmaps run` does and returns the run, opened lazily (a
+    qmaps.Run: per-orbit arrays, histograms, sections and indicators as numpy arrays, the
+    provenance in .attrs, .save(path) to keep the file).
+
+    config   a dict of tables, TOML text or the path of a TOML file
+    initial  the starting points instead of [ensemble]: a dict or structured array with q1, q2,
+             p1, p2, four arrays, or an array of shape (orbits, 4)
+    threads, simd
+             as --threads and --simd (0 and "auto": every core, the best ISA)
+    progress a callable(step, total) called after each segment, or True for a bar (tqdm when
+             installed)
+    sets     "section.key=value" overrides, as --set
+    **tables keyword overrides by table: run={"steps": 100}, ensemble={"orbits": 1000}
+    tmpdir   where the run's file is written until close() (default: the system's)
+
+    Raises ConfigError (the key and its line), FileError, UnsupportedError, and
+    KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept). The GIL is released while
+    the orbits step."""
+    engine = _the_engine()
+    path, text, source = _config_source(config)
+    overrides = list(sets)
+    for table, values in tables.items():
+        if not isinstance(values, dict):
+            raise TypeError(f"{table}=: a dict of keys, as {table}={{'key': value}}")
+        overrides += [f"{table}.{k}={toml_text.value(v)}" for k, v in values.items()]
+    points = None if initial is None else _points(initial)
+    callback, bar = _progress_callback(progress)
+    folder = tempfile.mkdtemp(prefix="qmaps-run-", dir=tmpdir)
+    file = os.path.join(folder, "run.h5")
+    try:
+        log = engine.run(path, text, source, overrides, file, int(threads), simd, points, callback,
+                         f"qmaps.run({path or source})")
+        loaded = runfile.load(file)
+    except BaseException:
+        shutil.rmtree(folder, ignore_errors=True)
+        raise
+    finally:
+        if bar is not None:
+            bar.close()
+    loaded.owned, loaded.log = folder, log
+    return loaded
+
+
+def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, start="taylor",
+          escape_bound=1e8, chaos=False, energy=None, frame=None):
+    """One orbit's table, as `qmaps orbit` prints it: n, the phase point, the invariants, the
+    continuous system's integrals (the _cont columns) and with chaos=True the indicators.
+
+    params   {name: value} of the map's parameters (qmaps.maps() lists them)
+    ic       (q1, q2, p1, p2); with energy=E, p2 is solved from H_cont = E, its sign kept
+    frame    True: a pandas DataFrame; False: a numpy structured array; None (default): the
+             DataFrame when pandas is installed, else the array
+
+    An orbit that escapes ends its rows before the escape, with a RuntimeWarning saying when."""
+    engine = _the_engine()
+    sets = [f"{k}={v!r}" for k, v in (params or {}).items()]
+    ic_text = ",".join(repr(float(x)) for x in ic) if not isinstance(ic, str) else ic
+    columns, table, escaped = engine.orbit(str(map), sets, ic_text, int(steps), int(every),
+                                           str(start), float(escape_bound), bool(chaos),
+                                           None if energy is None else float(energy))
+    if escaped:
+        warnings.warn(f"qmaps.orbit: {escaped}", RuntimeWarning, stacklevel=2)
+    if frame is None or frame:
+        try:
+            import pandas
+        except ImportError:
+            if frame:
+                raise ImportError("frame=True needs pandas (Debian: python3-pandas)") from None
+        else:
+            result = pandas.DataFrame(table, columns=columns)
+            result["n"] = result["n"].astype(np.int64)
+            return result
+    rows = np.empty(table.shape[0], dtype=[(c, np.int64 if c == "n" else np.float64)
+                                           for c in columns])
+    for k, c in enumerate(columns):
+        rows[c] = table[:, k]
+    return rows
+
+
+def maps():
+    """Every map by name: its summary, the paper's equations, its invariants and its parameters
+    (name, meaning, default or None, required), as `qmaps list` prints them."""
+    return {m["name"]: m for m in _the_engine().maps()}

@@ -1,0 +1,46 @@
+"""docs/notebooks/quickstart.ipynb runs from top to bottom in a fresh kernel (nbclient, with the
+build tree's package) and shows what it says: the run's summary, a section of the orbits of an 8 x 8 grid on one energy shell, a
+density and the two maps' energy errors, the integrable map's own invariant kept to round-off."""
+import os
+import re
+import sys
+import unittest
+
+import nbclient
+import nbformat
+
+import small_run
+
+NOTEBOOK = small_run.SOURCE_DIR / "docs" / "notebooks" / "quickstart.ipynb"
+
+
+def text_of(cell):
+    return "".join(o.get("text", "") for o in cell.get("outputs", []) if o["output_type"] == "stream")
+
+
+class Quickstart(unittest.TestCase):
+    def test_it_runs_and_shows_each_result(self):
+        os.environ.pop("MPLBACKEND", None)  # the kernel's own inline backend draws the figures
+        notebook = nbformat.read(NOTEBOOK, as_version=4)
+        nbclient.NotebookClient(notebook, timeout=600, kernel_name="python3",
+                                resources={"metadata": {"path": str(NOTEBOOK.parent)}}).execute()
+        code = [c for c in notebook.cells if c.cell_type == "code"]
+        for cell in code:
+            self.assertFalse([o for o in cell.outputs if o["output_type"] == "error"], cell.source)
+        figures = [c for c in code if any("image/png" in o.get("data", {}) for o in c.outputs)]
+        self.assertEqual(len(figures), 3)  # the section, the density, the energy errors
+        summary = text_of(code[1])
+        self.assertIn("particle-steps/s", summary)
+        orbits, points = map(int, re.search(r"^(\d+) orbits, (\d+) section points", summary, re.M).groups())
+        self.assertTrue(30 <= orbits <= 64)  # the 8 x 8 grid's points on the shell
+        self.assertGreater(points, orbits * 100)
+        errors = dict(re.findall(r"^(\w+): largest energy error (\S+)", text_of(code[-1]), re.M))
+        own = float(re.search(r"its own invariant H (\S+)", text_of(code[-1])).group(1))
+        print({k: float(v) for k, v in errors.items()}, "own", own)
+        self.assertEqual(sorted(errors), ["leapfrog", "suris"])
+        self.assertTrue(all(0 < float(v) < 1e-2 for v in errors.values()))
+        self.assertLess(own, 1e-12)  # H about 0.1, 2000 rows
+
+
+if __name__ == "__main__":
+    unittest.main(argv=sys.argv[:1], verbosity=2)
