@@ -40,9 +40,12 @@ py::object error_class(ExitCode code) {
 
 std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
     const py::array_t<double, py::array::c_style | py::array::forcecast>& points) {
-  if (points.ndim() != 2 || points.shape(1) != 4)
-    throw qmaps::usage_error("initial conditions: expected an array of shape (orbits, 4), got " +
-                             std::to_string(points.ndim()) + " dimensions");
+  if (points.ndim() != 2 || points.shape(1) != 4) {
+    std::string shape;
+    for (py::ssize_t k = 0; k < points.ndim(); ++k)
+      shape += (k ? ", " : "") + std::to_string(points.shape(k));
+    throw qmaps::usage_error("initial conditions: expected shape (orbits, 4), got (" + shape + ")");
+  }
   auto out = std::make_shared<std::vector<qmaps::Phase>>(static_cast<std::size_t>(points.shape(0)));
   std::memcpy(out->data(), points.data(), out->size() * sizeof(qmaps::Phase));
   return out;

@@ -210,6 +210,19 @@ def test_progress_is_reported_up_to_the_last_step(configs):
     assert [s for s, _ in seen] == sorted(s for s, _ in seen)
 
 
+def test_progress_bar_and_a_failing_callback(configs, tmp_path, capfd):
+    """progress=True draws a bar (tqdm) on stderr; a callback that raises ends the run with its
+    exception and nothing left behind."""
+    qmaps.run(configs["suris"], progress=True, **SETS).close()
+    assert "120/120" in capfd.readouterr().err
+
+    def fail(step, total):
+        raise ArithmeticError(f"stop at {step}")
+    with pytest.raises(ArithmeticError, match="stop at"):
+        qmaps.run(configs["suris"], progress=fail, tmpdir=tmp_path, **SETS)
+    assert not list(tmp_path.iterdir())
+
+
 INTERRUPTED = """
 import os, signal, sys, threading, qmaps
 config, folder, how = sys.argv[1], sys.argv[2], sys.argv[3]
