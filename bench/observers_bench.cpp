@@ -1,7 +1,8 @@
 // The cost of observing: Suris on every SIMD ISA the CPU has, 2^18 orbits, 1000 steps per
 // iteration (bench_size), default chains: raw; with the invariants tracked and a 128×128 (q1, q2) density sampled every
 // `stride` steps; a section alone (q1 = 0 both ways, iterate, cap 50); and the default preset's
-// observers (invariants and density every 10 steps, the section q1 = 0 upward with cap 2).
+// observers (invariants and density every 10 steps, the section q1 = 0 upward with cap 2), and
+// that section alone.
 // items_per_second = particle-steps/s; histogram_updates_per_second counts density samples.
 #include <benchmark/benchmark.h>
 
@@ -73,6 +74,7 @@ const bool registered = [] {
                         {"invariants_density", true, true, 0, {1, 10, 100}},
                         {"density", false, true, 0, {1, 10, 100}},
                         {"section", false, false, 2, {1000}},
+                        {"preset_section", false, false, 1, {1000}},
                         {"preset", true, true, 1, {10}}};
   for (Isa isa : runnable_isas())
     for (const Kind& k : kinds) {
