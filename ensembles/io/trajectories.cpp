@@ -20,10 +20,15 @@ std::vector<std::string> trajectory_columns(const Model& model) {
 std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
                                    std::size_t i) {
   const Phase x = model.phase(e, i);
-  std::vector<double> row = {model.time(e, i), x.q1, x.q2, x.p1, x.p2};
-  for (double v : model.invariants(e, i)) row.push_back(v);
-  for (double v : continuous.invariants_of(std::array{x.q1, x.q2, x.p1, x.p2})) row.push_back(v);
-  for (double v : model.indicators(e, i)) row.push_back(v);
+  const std::vector<double> invariants = model.invariants(e, i);
+  const std::vector<double> integrals = continuous.invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
+  const std::vector<double> indicators = model.indicators(e, i);
+  std::vector<double> row;  // allocated once: qmaps orbit makes a row per step
+  row.reserve(5 + invariants.size() + integrals.size() + indicators.size());
+  row.insert(row.end(), {model.time(e, i), x.q1, x.q2, x.p1, x.p2});
+  row.insert(row.end(), invariants.begin(), invariants.end());
+  row.insert(row.end(), integrals.begin(), integrals.end());
+  row.insert(row.end(), indicators.begin(), indicators.end());
   return row;
 }
 

@@ -160,10 +160,11 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
             result = pandas.DataFrame(table, columns=columns)
             result["n"] = result["n"].astype(np.int64)
             return result
+    # One contiguous copy of the table into the records (n is column 0), then n as integers.
     rows = np.empty(table.shape[0], dtype=[(c, np.int64 if c == "n" else np.float64)
                                            for c in columns])
-    for k, c in enumerate(columns):
-        rows[c] = table[:, k]
+    rows.view(np.float64).reshape(table.shape)[:] = table
+    rows["n"] = table[:, 0]
     return rows
 
 
