@@ -12,10 +12,12 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/memory_limit.hpp"
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
@@ -106,12 +108,27 @@ py::tuple orbit(const std::string& map, const std::vector<std::string>& sets, co
   std::vector<std::string> columns;
   std::vector<double> values;
   std::string escaped;
+  // The table is kept whole (qmaps orbit streams it): it must fit in memory twice, as rows and
+  // as the array, before any is made; its rows are reserved once it does.
+  const auto take_columns = [&](const std::vector<std::string>& c) {
+    columns = c;
+    const double rows = static_cast<double>(std::max(0LL, steps) / std::max(1LL, every)) + 1;
+    const double bytes = 2 * rows * static_cast<double>(c.size()) * sizeof(double);
+    const qmaps::MemoryLimit limit = qmaps::memory_limit();
+    if (bytes > limit.bytes) {
+      char need[160];
+      std::snprintf(need, sizeof need, "orbit: %.0f rows of %zu columns need about %.3g GiB",
+                    rows, c.size(), bytes / (1 << 30));
+      throw qmaps::usage_error(std::string(need) + ", more than " + limit.what +
+                               " allows; keep fewer rows with every");
+    }
+    values.reserve(static_cast<std::size_t>(rows) * c.size());
+  };
   {
     const py::gil_scoped_release released;
-    values.reserve(static_cast<std::size_t>(std::max(0LL, steps / std::max(1LL, every)) + 1) * 12);
-    escaped = qmaps::orbit_rows(
-        o, [&](const std::vector<std::string>& c) { columns = c; },
-        [&](std::span<const double> row) { values.insert(values.end(), row.begin(), row.end()); });
+    escaped = qmaps::orbit_rows(o, take_columns, [&](std::span<const double> row) {
+      values.insert(values.end(), row.begin(), row.end());
+    });
   }
   const auto width = static_cast<py::ssize_t>(columns.size());
   py::array_t<double> table({static_cast<py::ssize_t>(values.size()) / width, width});

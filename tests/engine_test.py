@@ -282,6 +282,9 @@ def test_orbit_errors_and_escapes():
         qmaps.orbit("suris", {}, (0.1, 0, 0, 0))
     with pytest.raises(qmaps.ConfigError, match="--every must be >= 1"):
         qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1}, (0.1, 0, 0, 0), every=0)
+    with pytest.raises(qmaps.ConfigError, match=r"rows of 10 columns need about .* GiB, more than"):
+        qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1}, (0.1, 0, 0, 0),
+                    steps=10**13)
     with pytest.warns(RuntimeWarning, match="escaped at step 3 "):
         t = qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1},
                         (0.3, 0.3, 0.5, 0.5), steps=1000, escape_bound=0.6, frame=False)
