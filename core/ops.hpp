@@ -12,6 +12,7 @@
 //   log             natural log, one algorithm written below for every type (a long double's is
 //                   the C library's): within 2 ulp of the C library's log (measured over
 //                   80 binades), the same bits everywhere
+//   any, all, bits  of a mask; bits: lane l's in bit l
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
 //   integer_lanes     the lanes of a value holding exact integers in [0, 2^52), as integers
@@ -75,6 +76,7 @@ inline T split_exponent(T a, T& e) {
 template <std::floating_point T>
 inline T select(bool m, T a, T b) { return m ? a : b; }
 inline bool any(bool m) { return m; }
+inline std::uint64_t bits(bool m) { return m ? 1 : 0; }  // lane l's in bit l
 inline bool all(bool m) { return m; }
 inline bool negate(bool m) { return !m; }
 
@@ -160,6 +162,15 @@ template <class A>
 inline bool any(xsimd::batch_bool<double, A> m) { return xsimd::any(m); }
 template <class A>
 inline bool all(xsimd::batch_bool<double, A> m) { return xsimd::all(m); }
+template <class A>
+inline std::uint64_t bits(xsimd::batch_bool<double, A> m) {
+  if constexpr (batch<A>::size == 8)
+    return static_cast<__mmask8>(m);
+  else if constexpr (batch<A>::size == 4)
+    return static_cast<std::uint64_t>(_mm256_movemask_pd(m));
+  else
+    return static_cast<std::uint64_t>(_mm_movemask_pd(m));
+}
 template <class A>
 inline xsimd::batch_bool<double, A> negate(xsimd::batch_bool<double, A> m) { return !m; }
 

@@ -37,6 +37,15 @@ class Histogram {
   // (Defined in core/observers/histogram_lanes.hpp, which the runner's paths include.)
   template <class V, class Mask>
   void add_lanes(const V* x, Mask alive);
+  // The same in two parts, for samples a few lanes at a time (a section's crossings): each
+  // lane's slot, then one increment per lane counted.
+  template <class V>
+  auto slots(const V* x) const;  // std::array<std::uint64_t, lanes of V>
+  void add_slot(std::uint64_t slot) {
+    if (pending_samples_ == pending_limit) flush();
+    ++pending_samples_;
+    ++pending_[slot];
+  }
   void flush();
 
   void merge(const Histogram& other);

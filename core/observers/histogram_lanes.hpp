@@ -1,6 +1,7 @@
 #pragma once
 // Histogram::add_lanes, for V = double and every batch: the runner's paths include this; the
 // rest of the program sees only core/observers/histogram.hpp, free of SIMD headers.
+#include <bit>
 #include <cstdint>
 
 #include "core/observers/histogram.hpp"
@@ -8,21 +9,22 @@
 
 namespace qmaps {
 
+template <class V>
+auto Histogram::slots(const V* x) const {
+  return ops::integer_lanes(rank_ == 2 ? slot<2>(x) : slot<1>(x));
+}
+
 template <class V, class Mask>
 void Histogram::add_lanes(const V* x, Mask alive) {
-  const auto slots = ops::integer_lanes(rank_ == 2 ? slot<2>(x) : slot<1>(x));
-  if (pending_samples_ > pending_limit - slots.size()) flush();
+  const auto lane_slots = slots(x);
   if (ops::all(alive)) {
-    pending_samples_ += slots.size();
-    for (const std::uint64_t s : slots) ++pending_[s];
+    if (pending_samples_ > pending_limit - lane_slots.size()) flush();
+    pending_samples_ += lane_slots.size();
+    for (const std::uint64_t s : lane_slots) ++pending_[s];
     return;
   }
-  const auto lanes = ops::lanes_of(alive);
-  for (std::size_t l = 0; l < slots.size(); ++l)
-    if (lanes[l]) {
-      ++pending_samples_;
-      ++pending_[slots[l]];
-    }
+  for (std::uint64_t lanes = ops::bits(alive); lanes != 0; lanes &= lanes - 1)
+    add_slot(lane_slots[static_cast<std::size_t>(std::countr_zero(lanes))]);
 }
 
 template <int rank, class V>

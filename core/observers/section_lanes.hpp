@@ -3,6 +3,7 @@
 // recording of the lanes that crossed, the point computed in V and the density counted through
 // the 16-bit tallies.
 #include <array>
+#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -64,23 +65,23 @@ std::array<V, 2> section_point(const typename Map::Coeffs& c, const Section& sec
 }
 
 // Records the section's crossing at `step` by each lane of `crossing` (orbit first_orbit + lane):
-// every crossing in the section's density, in V; its point while the orbit's cap allows.
+// every crossing in the section's density, in V; its point while the orbit's cap allows. The
+// point and its slot in the density are computed in V, then the lanes that crossed (a few of the
+// batch, usually one) are visited one by one.
 template <class Map, class V>
 void record_lanes(const typename Map::Coeffs& c, Section& section, ops::mask_t<V> crossing,
                   const std::array<V, 5>& before, const std::array<V, 5>& after,
                   std::size_t first_orbit, long long step) {
   ops::mask_t<V> interpolated;
   const auto xy = section_point<Map>(c, section, before, after, interpolated);
-  section.density.add_lanes(xy.data(), crossing);
-  const auto lanes = ops::lanes_of(crossing);
-  if (ops::any(interpolated & crossing)) {
-    const auto inexact = ops::lanes_of(interpolated);
-    for (std::size_t l = 0; l < lanes.size(); ++l) section.interpolated += lanes[l] && inexact[l];
-  }
-  if (section.cap == 0) return;
+  section.interpolated += std::popcount(ops::bits(interpolated & crossing));
+  const auto slots = section.density.slots(xy.data());
   const auto x = ops::lanes_of(xy[0]), y = ops::lanes_of(xy[1]);
-  for (std::size_t l = 0; l < lanes.size(); ++l)
-    if (lanes[l]) section.points->keep(first_orbit + l, step, x[l], y[l]);
+  for (std::uint64_t lanes = ops::bits(crossing); lanes != 0; lanes &= lanes - 1) {
+    const auto l = static_cast<std::size_t>(std::countr_zero(lanes));
+    section.density.add_slot(slots[l]);
+    if (section.cap > 0) section.points->keep(first_orbit + l, step, x[l], y[l]);
+  }
 }
 
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
