@@ -380,16 +380,24 @@ template <class Map, class V, int K>
     if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
     if (densities) sample_densities<Map>(c, s[k], alive[k], observers->densities, density_momentum);
   };
-  // The crossings a clean chunk kept, recorded as check_sections records them.
+  // The crossings a clean chunk kept, recorded as check_sections records them: first every
+  // crossing's points and slots in V, then the lanes one by one (two passes, so that the lanes'
+  // scalar reads do not wait on the stores just made of them).
+  thread_local std::vector<CrossingLanes<V>> prepared;  // the first pass's, one per crossing
+  if (prepared.size() < crossings.size()) prepared.resize(crossings.size());
   const auto record_crossings = [&] {
     for (std::size_t i = 0; i < crossed; ++i) {
       const auto& x = crossings[i];
       Section& section = observers->sections[static_cast<std::size_t>(x.section)];
       const auto after = node_values<Map>(c, x.after, section_momentum);
-      record_lanes<Map>(c, section, x.lanes,
-                        section.needs_before() ? node_values<Map>(c, x.before, section_momentum)
-                                               : after,
-                        after, first + x.chain * W, x.step);
+      prepared[i] = crossing_lanes<Map>(
+          c, section, x.lanes,
+          section.needs_before() ? node_values<Map>(c, x.before, section_momentum) : after, after);
+    }
+    for (std::size_t i = 0; i < crossed; ++i) {
+      const auto& x = crossings[i];
+      keep_lanes(observers->sections[static_cast<std::size_t>(x.section)], prepared[i],
+                 first + x.chain * W, x.step);
     }
   };
 

@@ -49,7 +49,9 @@ std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
     throw qmaps::usage_error("initial conditions: expected shape (orbits, 4), got (" + shape + ")");
   }
   auto out = std::make_shared<std::vector<qmaps::Phase>>(static_cast<std::size_t>(points.shape(0)));
-  std::memcpy(out->data(), points.data(), out->size() * sizeof(qmaps::Phase));
+  const auto rows = points.unchecked<2>();
+  for (py::ssize_t i = 0; i < rows.shape(0); ++i)
+    (*out)[static_cast<std::size_t>(i)] = {rows(i, 0), rows(i, 1), rows(i, 2), rows(i, 3)};
   return out;
 }
 

@@ -64,23 +64,37 @@ std::array<V, 2> section_point(const typename Map::Coeffs& c, const Section& sec
   }
 }
 
-// Records the section's crossing at `step` by each lane of `crossing` (orbit first_orbit + lane):
-// every crossing in the section's density, in V; its point while the orbit's cap allows. The
-// point and its slot in the density are computed in V, then the lanes that crossed (a few of the
-// batch, usually one) are visited one by one.
+// A crossing by the lanes of a batch, ready to record: each lane's point and its slot in the
+// section's density, computed in V, and the lanes that crossed as bits (a few, usually one).
+template <class V>
+struct CrossingLanes {
+  std::array<std::uint64_t, ops::lanes<V>> slots;
+  std::array<double, ops::lanes<V>> x, y;
+  std::uint64_t lanes;
+};
+
+// The crossing by the lanes of `crossing` from node n (`before`) to node n + 1 (`after`); the
+// lanes whose point had to be interpolated are counted in the section.
 template <class Map, class V>
-void record_lanes(const typename Map::Coeffs& c, Section& section, ops::mask_t<V> crossing,
-                  const std::array<V, 5>& before, const std::array<V, 5>& after,
-                  std::size_t first_orbit, long long step) {
+CrossingLanes<V> crossing_lanes(const typename Map::Coeffs& c, Section& section,
+                                ops::mask_t<V> crossing, const std::array<V, 5>& before,
+                                const std::array<V, 5>& after) {
   ops::mask_t<V> interpolated;
   const auto xy = section_point<Map>(c, section, before, after, interpolated);
   section.interpolated += std::popcount(ops::bits(interpolated & crossing));
-  const auto slots = section.density.slots(xy.data());
-  const auto x = ops::lanes_of(xy[0]), y = ops::lanes_of(xy[1]);
-  for (std::uint64_t lanes = ops::bits(crossing); lanes != 0; lanes &= lanes - 1) {
+  return {section.density.slots(xy.data()), ops::lanes_of(xy[0]), ops::lanes_of(xy[1]),
+          ops::bits(crossing)};
+}
+
+// Records a crossing at `step` (lane l: orbit first_orbit + l): every crossing in the section's
+// density; its point while the orbit's cap allows.
+template <class V>
+void keep_lanes(Section& section, const CrossingLanes<V>& x, std::size_t first_orbit,
+                long long step) {
+  for (std::uint64_t lanes = x.lanes; lanes != 0; lanes &= lanes - 1) {
     const auto l = static_cast<std::size_t>(std::countr_zero(lanes));
-    section.density.add_slot(slots[l]);
-    if (section.cap > 0) section.points->keep(first_orbit + l, step, x[l], y[l]);
+    section.density.add_slot(x.slots[l]);
+    if (section.cap > 0) section.points->keep(first_orbit + l, step, x.x[l], x.y[l]);
   }
 }
 
@@ -97,7 +111,8 @@ void check_sections(const typename Map::Coeffs& c, const typename Map::template 
     const auto p = static_cast<std::size_t>(section.plane);
     const auto crossing = crosses(section, before[p], after[p]) & alive;
     if (ops::any(crossing))
-      record_lanes<Map>(c, section, crossing, before, after, first_orbit, step);
+      keep_lanes(section, crossing_lanes<Map>(c, section, crossing, before, after), first_orbit,
+                 step);
   }
   before = after;
 }

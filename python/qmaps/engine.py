@@ -9,6 +9,7 @@ import warnings
 import numpy as np
 
 from . import runfile, toml_text
+from .errors import ConfigError
 
 try:
     from . import _engine
@@ -46,7 +47,6 @@ def _points(initial):
         missing = [n for n in names if n not in (initial.keys() if isinstance(initial, dict)
                                                  else initial.dtype.names)]
         if missing:
-            from .errors import ConfigError
             raise ConfigError(f"initial conditions: no {', '.join(missing)}")
         columns = [np.asarray(initial[n], dtype=np.float64) for n in names]
     elif isinstance(initial, (list, tuple)) and len(initial) == 4 and np.ndim(initial[0]) == 1:
@@ -54,11 +54,9 @@ def _points(initial):
     else:
         array = np.asarray(initial, dtype=np.float64)
         if array.ndim != 2 or array.shape[1] != 4:
-            from .errors import ConfigError
             raise ConfigError(f"initial conditions: expected shape (orbits, 4), got {array.shape}")
         return np.ascontiguousarray(array)
     if len({c.shape for c in columns}) != 1 or columns[0].ndim != 1:
-        from .errors import ConfigError
         raise ConfigError("initial conditions: q1, q2, p1 and p2 must be 1-D arrays of one length, "
                           f"got shapes {[c.shape for c in columns]}")
     return np.ascontiguousarray(np.stack(columns, axis=1))
