@@ -214,6 +214,15 @@ TEST_F(Io, FinalPhaseAndInvariantsEqualKernelOfState) {
   }
 }
 
+// The per-orbit values of the file (final points, invariants, drift histograms) are computed by
+// the run's threads, each orbit's alone: one thread and two write the same datasets.
+TEST_F(Io, OneThreadAndTwoWriteTheSameDatasets) {
+  config = with_line(config, "orbits = ", "orbits = 3001");
+  run_root({"--threads", "1"}, dir / "one.h5");
+  run_root({"--threads", "2"}, dir / "two.h5");
+  EXPECT_TRUE(SameDatasets(dir / "one.h5", dir / "two.h5"));
+}
+
 TEST_F(Io, ContinuingFinalStateIsIdenticalToLongerRun) {
   const auto full = read_states(run_root().open_group("final").open_group("state"));
   config = with_line(config, "steps = ", "steps = 30");

@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <omp.h>
+
 #include "core/version.hpp"
 
 namespace qmaps {
@@ -181,17 +183,28 @@ std::vector<double> ChaosTable::bounded(std::size_t k) const {
   return out;
 }
 
-DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t k, int threads) {
   DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
-  for (std::size_t i = 0; i < e.orbits; ++i) {
-    const double drift = e.invariant_max_drift[k][i];
+  const long long n = static_cast<long long>(e.orbits);
+  // Each thread counts its orbits in its own histogram; the counts add exactly.
+  std::vector<DriftHistogram> partials(static_cast<std::size_t>(std::max(threads, 1)),
+                                       DriftHistogram{d.histogram.empty_copy()});
+#pragma omp parallel for schedule(static) num_threads(static_cast<int>(partials.size()))
+  for (long long i = 0; i < n; ++i) {
+    DriftHistogram& mine = partials[static_cast<std::size_t>(omp_get_thread_num())];
+    const auto o = static_cast<std::size_t>(i);
+    const double drift = e.invariant_max_drift[k][o];
     if (drift == 0) {
-      ++d.zero;
+      ++mine.zero;
       continue;
     }
-    const double scale = std::fabs(e.invariant_initial[k][i]);  // absolute where I_0 = 0
+    const double scale = std::fabs(e.invariant_initial[k][o]);  // absolute where I_0 = 0
     const double x = std::log10(scale > 0 ? drift / scale : drift);
-    d.histogram.add(&x);
+    mine.histogram.add(&x);
+  }
+  for (const DriftHistogram& p : partials) {
+    d.histogram.merge(p.histogram);
+    d.zero += p.zero;
   }
   return d;
 }
@@ -257,6 +270,9 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const Model& model = run.model;
   const Ensemble& e = run.ensemble;
   const std::size_t n = e.orbits;
+  // The per-orbit values computed for the file (final phase points, invariants, drifts) are
+  // computed by the run's threads, each orbit's alone: the same values whatever their number.
+  const int threads = std::max(run.execution.threads, 1);
 
   write_build(root);
   root.attr("map", std::string(model.name()));
@@ -297,7 +313,10 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
                    {final_group, "p2"}, {final_group, "t"}},
                   n, [&](std::size_t first, std::size_t count, auto& values) {
-                    for (std::size_t i = 0; i < count; ++i) {
+                    const long long rows = static_cast<long long>(count);
+#pragma omp parallel for schedule(static) num_threads(threads)
+                    for (long long r = 0; r < rows; ++r) {
+                      const auto i = static_cast<std::size_t>(r);
                       const Phase p = model.phase(e, first + i);
                       for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
                       values[4][i] = model.time(e, first + i);
@@ -320,7 +339,10 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       finals.push_back({groups[k], "final"});
     }
     write_columns(finals, n, [&](std::size_t first, std::size_t count, auto& values) {
-      for (std::size_t i = 0; i < count; ++i) {
+      const long long rows = static_cast<long long>(count);
+#pragma omp parallel for schedule(static) num_threads(threads)
+      for (long long r = 0; r < rows; ++r) {
+        const auto i = static_cast<std::size_t>(r);
         const auto v = model.invariants(e, first + i);
         for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
       }
@@ -329,7 +351,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       groups[k].write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
   }
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    const DriftHistogram drift = drift_histogram(e, k);
+    const DriftHistogram drift = drift_histogram(e, k, threads);
     const auto dg = groups[k].create_group("drift_histogram");
     write_histogram(dg, drift.histogram, "counts");
     dg.attr("zero", drift.zero);
