@@ -187,9 +187,7 @@ template <class Map, class V, int K, bool keep_before>
         for (int k = 0; k < K; ++k) {
           advance(k);
           const V now = Watch<Map, V>::plane(c, w[k], plane);
-          const auto up = (previous[k] < value) & (now >= value);
-          const auto down = (previous[k] > value) & (now <= value);
-          crossing[k] = (direction > 0 ? up : direction < 0 ? down : up | down) & live[k];
+          crossing[k] = crosses(value, direction, previous[k], now) & live[k];
           previous[k] = now;
         }
         ops::mask_t<V> any = crossing[0];
@@ -214,10 +212,7 @@ template <class Map, class V, int K, bool keep_before>
           const typename Map::template State<V> before = w[k];
           advance(k);
           const V now = Watch<Map, V>::plane(c, w[k], plane);
-          const auto up = (previous[k] < value) & (now >= value);
-          const auto down = (previous[k] > value) & (now <= value);
-          const ops::mask_t<V> crossing =
-              (direction > 0 ? up : direction < 0 ? down : up | down) & live[k];
+          const ops::mask_t<V> crossing = crosses(value, direction, previous[k], now) & live[k];
           if (ops::any(crossing)) [[unlikely]]
             keep(crossing, before, k, j, 0);
           previous[k] = now;

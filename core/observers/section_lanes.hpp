@@ -15,12 +15,16 @@
 
 namespace qmaps {
 
-// The lanes whose plane coordinate crosses the section from a (node n) to b (node n + 1).
+// The lanes whose plane coordinate crosses `value` in `direction` (Section::direction) from a
+// (node n) to b (node n + 1).
+template <class V>
+ops::mask_t<V> crosses(V value, int direction, V a, V b) {
+  const auto up = (a < value) & (b >= value), down = (a > value) & (b <= value);
+  return direction > 0 ? up : direction < 0 ? down : up | down;
+}
 template <class V>
 ops::mask_t<V> crosses(const Section& section, V a, V b) {
-  const V v(section.value);
-  const auto up = (a < v) & (b >= v), down = (a > v) & (b <= v);
-  return section.direction > 0 ? up : section.direction < 0 ? down : up | down;
+  return crosses(V(section.value), section.direction, a, b);
 }
 
 // The point a crossing from node n (`before`) to node n + 1 (`after`) gives in the section's
