@@ -18,6 +18,14 @@ struct Column {
   std::string name;
 };
 
+// row(i) for every i in [0, count), on `threads` threads; each row computed alone.
+template <class Row>
+void for_each_row(std::size_t count, int threads, Row row) {
+  const long long rows = static_cast<long long>(count);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long r = 0; r < rows; ++r) row(static_cast<std::size_t>(r));
+}
+
 // Datasets of n elements of T (doubles unless said), computed orbits_per_part rows at a time:
 // fill(first, count, values) sets values[k][0, count) of column k for rows [first, first + count).
 template <class T = double, class Fill>
@@ -145,12 +153,10 @@ ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_thres
   t.names = model.indicator_names();
   const std::size_t n = e.orbits;
   t.values.assign(t.names.size(), std::vector<double>(n));
-  const long long count = static_cast<long long>(n);
-#pragma omp parallel for schedule(static)
-  for (long long i = 0; i < count; ++i) {
-    const auto v = model.indicators(e, static_cast<std::size_t>(i));
-    for (std::size_t k = 0; k < v.size(); ++k) t.values[k][static_cast<std::size_t>(i)] = v[k];
-  }
+  for_each_row(n, omp_get_max_threads(), [&](std::size_t i) {
+    const auto v = model.indicators(e, i);
+    for (std::size_t k = 0; k < v.size(); ++k) t.values[k][i] = v[k];
+  });
   t.classes.resize(n);
   if (t.names.empty()) return t;
   const std::size_t megno = 2;  // indicator_names(): lyapunov, fli, megno, …
@@ -185,23 +191,21 @@ std::vector<double> ChaosTable::bounded(std::size_t k) const {
 
 DriftHistogram drift_histogram(const Ensemble& e, std::size_t k, int threads) {
   DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
-  const long long n = static_cast<long long>(e.orbits);
   // Each thread counts its orbits in its own histogram; the counts add exactly.
-  std::vector<DriftHistogram> partials(static_cast<std::size_t>(std::max(threads, 1)),
+  threads = std::max(threads, 1);
+  std::vector<DriftHistogram> partials(static_cast<std::size_t>(threads),
                                        DriftHistogram{d.histogram.empty_copy()});
-#pragma omp parallel for schedule(static) num_threads(static_cast<int>(partials.size()))
-  for (long long i = 0; i < n; ++i) {
+  for_each_row(e.orbits, threads, [&](std::size_t i) {
     DriftHistogram& mine = partials[static_cast<std::size_t>(omp_get_thread_num())];
-    const auto o = static_cast<std::size_t>(i);
-    const double drift = e.invariant_max_drift[k][o];
+    const double drift = e.invariant_max_drift[k][i];
     if (drift == 0) {
       ++mine.zero;
-      continue;
+      return;
     }
-    const double scale = std::fabs(e.invariant_initial[k][o]);  // absolute where I_0 = 0
+    const double scale = std::fabs(e.invariant_initial[k][i]);  // absolute where I_0 = 0
     const double x = std::log10(scale > 0 ? drift / scale : drift);
     mine.histogram.add(&x);
-  }
+  });
   for (const DriftHistogram& p : partials) {
     d.histogram.merge(p.histogram);
     d.zero += p.zero;
@@ -313,14 +317,11 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
                    {final_group, "p2"}, {final_group, "t"}},
                   n, [&](std::size_t first, std::size_t count, auto& values) {
-                    const long long rows = static_cast<long long>(count);
-#pragma omp parallel for schedule(static) num_threads(threads)
-                    for (long long r = 0; r < rows; ++r) {
-                      const auto i = static_cast<std::size_t>(r);
+                    for_each_row(count, threads, [&](std::size_t i) {
                       const Phase p = model.phase(e, first + i);
                       for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
                       values[4][i] = model.time(e, first + i);
-                    }
+                    });
                   });
     const auto state = final_group.create_group("state");
     state.attr("step", static_cast<std::int64_t>(e.step));
@@ -339,13 +340,10 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       finals.push_back({groups[k], "final"});
     }
     write_columns(finals, n, [&](std::size_t first, std::size_t count, auto& values) {
-      const long long rows = static_cast<long long>(count);
-#pragma omp parallel for schedule(static) num_threads(threads)
-      for (long long r = 0; r < rows; ++r) {
-        const auto i = static_cast<std::size_t>(r);
+      for_each_row(count, threads, [&](std::size_t i) {
         const auto v = model.invariants(e, first + i);
         for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
-      }
+      });
     });
     for (std::size_t k = 0; k < inv_names.size(); ++k)
       groups[k].write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
