@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/ranks.hpp"
 
 namespace qmaps::h5 {
 namespace {
@@ -55,27 +56,83 @@ Handle creation_properties(std::span<const hsize_t> dims, int deflate) {
   return plist;
 }
 
+// The transfer properties of a file's writes and reads: collective where the file is shared.
+Handle transfer(bool shared) {
+  Handle plist(checked(H5Pcreate(H5P_DATASET_XFER), "transfer properties"), H5Pclose);
+  if (shared) {
+#ifdef H5_HAVE_PARALLEL
+    checked(H5Pset_dxpl_mpio(plist.id(), H5FD_MPIO_COLLECTIVE), "collective transfer", 0);
+#else
+    throw failure("a shared file needs parallel HDF5");
+#endif
+  }
+  return plist;
+}
+
+// Rank 0's value of a trivially copyable T (or of a vector of them), on every rank: what a
+// shared file records is rank 0's.
 template <class T>
-void write_nd(hid_t parent, const std::string& where, const std::string& name, hid_t type,
-              std::span<const T> data, std::span<const hsize_t> dims, int deflate) {
+std::vector<T> rank0s(std::vector<T> values) {
+  std::string bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+  bytes = ranks::from_root(bytes);
+  values.resize(bytes.size() / sizeof(T));
+  std::memcpy(values.data(), bytes.data(), bytes.size());
+  return values;
+}
+template <class T>
+T rank0s(T value) {
+  return rank0s(std::vector<T>{value})[0];
+}
+
+// Selects nothing of `space`: a rank's part of a collective transfer where it has none.
+void select_none(hid_t space, const std::string& what) {
+  checked(H5Sselect_none(space), "selection in " + what, 0);
+}
+
+// A new dataset of shape `dims` (on a shared file, rank 0's), not yet written.
+Handle create_nd(hid_t parent, const std::string& what, const std::string& name, hid_t type,
+                 std::span<const hsize_t> dims_given, int deflate, bool shared) {
+  std::vector<hsize_t> dims(dims_given.begin(), dims_given.end());
+  if (shared) dims = rank0s(dims);
   Handle space(checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                        "dataspace"),
                H5Sclose);
   const Handle properties = creation_properties(dims, deflate);
-  Handle set(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT,
-                                properties.id(), H5P_DEFAULT),
-                     "cannot create dataset " + where + "/" + name),
-             H5Dclose);
-  if (!data.empty())
-    checked(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
-            "cannot write dataset " + where + "/" + name, 0);
+  return Handle(checked(H5Dcreate2(parent, name.c_str(), type, space.id(), H5P_DEFAULT,
+                                   properties.id(), H5P_DEFAULT),
+                        "cannot create dataset " + what),
+                H5Dclose);
 }
 
+// A dataset of shape `dims` holding `data`; on a shared file, rank 0's shape and data.
+template <class T>
+void write_nd(hid_t parent, const std::string& where, const std::string& name, hid_t type,
+              std::span<const T> data, std::span<const hsize_t> dims, int deflate, bool shared) {
+  const std::string what = where + "/" + name;
+  const Handle set = create_nd(parent, what, name, type, dims, deflate, shared);
+  Handle space(checked(H5Dget_space(set.id()), "dataspace of " + what), H5Sclose);
+  if (H5Sget_simple_extent_npoints(space.id()) == 0) return;
+  if (!shared) {
+    checked(H5Dwrite(set.id(), type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()),
+            "cannot write dataset " + what, 0);
+    return;
+  }
+  Handle memory_space(checked(H5Scopy(space.id()), "dataspace"), H5Sclose);
+  const T none{};
+  if (!ranks::root()) {
+    select_none(space.id(), what);
+    select_none(memory_space.id(), what);
+  }
+  const Handle xfer = transfer(true);
+  checked(H5Dwrite(set.id(), type, memory_space.id(), space.id(), xfer.id(),
+                   ranks::root() ? data.data() : &none),
+          "cannot write dataset " + what, 0);
+}
 template <class T>
 void write_1d(hid_t parent, const std::string& where, const std::string& name, hid_t type,
-              std::span<const T> data, int deflate) {
+              std::span<const T> data, int deflate, bool shared) {
   const hsize_t dims[1] = {data.size()};
-  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims), deflate);
+  write_nd(parent, where, name, type, data, std::span<const hsize_t>(dims), deflate, shared);
 }
 
 // The dataset `name`, which must hold `expected` elements (its shape is checked before anything
@@ -106,10 +163,12 @@ hid_t native_type() {
 }
 
 // The dataset `name` of `parent` with elements [first, first + count) selected in its file space,
-// and a memory space of count elements; the transfer `io` (H5Dwrite or H5Dread) runs on them.
+// and a memory space of count elements; the transfer `io` (H5Dwrite or H5Dread) runs on them
+// with the transfer properties it is given. On a shared file every rank runs it, collectively,
+// an empty part selecting nothing.
 template <class Transfer>
 void transfer_part(hid_t parent, const std::string& where, const std::string& name,
-                   std::size_t first, std::size_t count, Transfer io) {
+                   std::size_t first, std::size_t count, bool shared, Transfer io) {
   const std::string what = where + "/" + name;
   Handle set(checked(H5Dopen2(parent, name.c_str(), H5P_DEFAULT), "no dataset " + what),
              H5Dclose);
@@ -119,11 +178,17 @@ void transfer_part(hid_t parent, const std::string& where, const std::string& na
       first + count > static_cast<std::size_t>(H5Sget_simple_extent_npoints(file_space.id())))
     throw failure("elements [" + std::to_string(first) + ", " + std::to_string(first + count) +
                   ") are not in the one-dimensional dataset " + what);
-  if (count == 0) return;
-  checked(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, size, nullptr),
-          "selection in " + what, 0);
+  if (count == 0 && !shared) return;
   Handle memory_space(checked(H5Screate_simple(1, size, nullptr), "dataspace"), H5Sclose);
-  checked(io(set.id(), memory_space.id(), file_space.id()), "cannot transfer " + what, 0);
+  if (count == 0) {
+    select_none(file_space.id(), what);
+    select_none(memory_space.id(), what);
+  } else {
+    checked(H5Sselect_hyperslab(file_space.id(), H5S_SELECT_SET, start, nullptr, size, nullptr),
+            "selection in " + what, 0);
+  }
+  const Handle xfer = transfer(shared);
+  checked(io(set.id(), memory_space.id(), file_space.id(), xfer.id()), "cannot transfer " + what, 0);
 }
 
 void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* value) {
@@ -168,14 +233,14 @@ Group Group::create_group(const std::string& name) const {
                                          H5P_DEFAULT),
                               "cannot create group " + path_ + "/" + name),
                       H5Gclose),
-               path_ == "/" ? "/" + name : path_ + "/" + name, deflate_);
+               path_ == "/" ? "/" + name : path_ + "/" + name, deflate_, shared_);
 }
 
 Group Group::open_group(const std::string& name) const {
   return Group(Handle(checked(H5Gopen2(id(), name.c_str(), H5P_DEFAULT),
                               "no group " + path_ + "/" + name),
                       H5Gclose),
-               path_ == "/" ? "/" + name : path_ + "/" + name);
+               path_ == "/" ? "/" + name : path_ + "/" + name, 0, shared_);
 }
 
 bool Group::has(const std::string& name) const { return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0; }
@@ -193,17 +258,17 @@ std::vector<std::string> Group::members() const {
 }
 
 void Group::write(const std::string& name, std::span<const double> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_DOUBLE, data, deflate_);
+  write_1d(id(), path_, name, H5T_NATIVE_DOUBLE, data, deflate_, shared_);
 }
 void Group::write(const std::string& name, std::span<const std::int64_t> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_INT64, data, deflate_);
+  write_1d(id(), path_, name, H5T_NATIVE_INT64, data, deflate_, shared_);
 }
 void Group::write(const std::string& name, std::span<const std::uint8_t> data) const {
-  write_1d(id(), path_, name, H5T_NATIVE_UINT8, data, deflate_);
+  write_1d(id(), path_, name, H5T_NATIVE_UINT8, data, deflate_, shared_);
 }
 void Group::write(const std::string& name, std::span<const std::int64_t> data,
                   std::span<const hsize_t> dims) const {
-  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims, deflate_);
+  write_nd(id(), path_, name, H5T_NATIVE_INT64, data, dims, deflate_, shared_);
 }
 
 std::vector<hsize_t> Group::shape(const std::string& name) const {
@@ -218,22 +283,24 @@ std::vector<hsize_t> Group::shape(const std::string& name) const {
 template <class T>
 void Group::create_column(const std::string& name, std::size_t n) const {
   const hsize_t dims[1] = {n};
-  write_nd(id(), path_, name, native_type<T>(), std::span<const T>(),
-           std::span<const hsize_t>(dims), deflate_);
+  create_nd(id(), path_ + "/" + name, name, native_type<T>(), std::span<const hsize_t>(dims),
+            deflate_, shared_);
 }
 
 template <class T>
 void Group::write_part(const std::string& name, std::size_t first, std::span<const T> data) const {
-  transfer_part(id(), path_, name, first, data.size(), [&](hid_t set, hid_t memory, hid_t file) {
-    return H5Dwrite(set, native_type<T>(), memory, file, H5P_DEFAULT, data.data());
-  });
+  transfer_part(id(), path_, name, first, data.size(), shared_,
+                [&](hid_t set, hid_t memory, hid_t file, hid_t xfer) {
+                  return H5Dwrite(set, native_type<T>(), memory, file, xfer, data.data());
+                });
 }
 
 template <class T>
 void Group::read_part(const std::string& name, std::size_t first, std::span<T> out) const {
-  transfer_part(id(), path_, name, first, out.size(), [&](hid_t set, hid_t memory, hid_t file) {
-    return H5Dread(set, native_type<T>(), memory, file, H5P_DEFAULT, out.data());
-  });
+  transfer_part(id(), path_, name, first, out.size(), shared_,
+                [&](hid_t set, hid_t memory, hid_t file, hid_t xfer) {
+                  return H5Dread(set, native_type<T>(), memory, file, xfer, out.data());
+                });
 }
 
 #define QMAPS_H5_COLUMN(T)                                                                  \
@@ -255,7 +322,8 @@ std::vector<std::uint8_t> Group::read_uint8(const std::string& name, std::size_t
   return read_1d<std::uint8_t>(id(), path_, name, H5T_NATIVE_UINT8, expected);
 }
 
-void Group::attr(const std::string& name, const std::string& value) const {
+void Group::attr(const std::string& name, const std::string& given) const {
+  const std::string value = shared_ ? ranks::from_root(given) : given;
   Handle type(checked(H5Tcopy(H5T_C_S1), "string type"), H5Tclose);
   H5Tset_size(type.id(), value.empty() ? 1 : value.size());
   H5Tset_cset(type.id(), H5T_CSET_UTF8);
@@ -263,10 +331,12 @@ void Group::attr(const std::string& name, const std::string& value) const {
   write_attr(id(), name, type.id(), space.id(), value.empty() ? "" : value.data());
 }
 void Group::attr(const std::string& name, double value) const {
+  if (shared_) value = rank0s(value);
   Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
   write_attr(id(), name, H5T_NATIVE_DOUBLE, space.id(), &value);
 }
 void Group::attr(const std::string& name, std::int64_t value) const {
+  if (shared_) value = rank0s(value);
   Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
   write_attr(id(), name, H5T_NATIVE_INT64, space.id(), &value);
 }
@@ -324,9 +394,17 @@ namespace {
 // A new file whose close() closes it whatever groups and datasets of it are still open (they
 // are closed with it): a file is complete on disk, its errors reported, when close() returns,
 // and not only when the last of its groups goes.
-hid_t create_file(const std::string& path) {
+// Shared: every rank's call, through MPI-IO.
+hid_t create_file(const std::string& path, bool shared = false) {
   const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   if (access.id() < 0 || H5Pset_fclose_degree(access.id(), H5F_CLOSE_STRONG) < 0) return -1;
+  if (shared) {
+#ifdef H5_HAVE_PARALLEL
+    if (H5Pset_fapl_mpio(access.id(), MPI_COMM_WORLD, MPI_INFO_NULL) < 0) return -1;
+#else
+    return -1;
+#endif
+  }
   return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
 }
 
@@ -359,7 +437,7 @@ File File::open_read(const std::string& path) {
 Group File::root() const {
   return Group(Handle(checked(H5Gopen2(h_.id(), "/", H5P_DEFAULT), "root group of " + path_),
                       H5Gclose),
-               "/", deflate_);
+               "/", deflate_, shared_);
 }
 
 namespace {
@@ -384,33 +462,52 @@ void remove_stale_temporaries(const std::string& path) {
 
 }  // namespace
 
-AtomicFile::AtomicFile(std::string path)
-    : path_(std::move(path)), temporary_(path_ + ".tmp-" + std::to_string(getpid())) {
+AtomicFile::AtomicFile(std::string path, bool shared) : path_(std::move(path)), shared_(shared) {
+  const std::string pid = std::to_string(getpid());
+  temporary_ = path_ + ".tmp-" + (shared_ ? ranks::from_root(pid) : pid);
+  if (!shared_) {
+    struct stat info;
+    if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+      throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
+    remove_stale_temporaries(path_);
+    return;
+  }
+  check_writable(path_);  // on every rank, before any of them creates the file
+  if (ranks::root()) remove_stale_temporaries(path_);
+}
+
+void AtomicFile::check_writable(const std::string& path) {
   struct stat info;
-  if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-    throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
-  remove_stale_temporaries(path_);
+  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
+    throw Error(ExitCode::io, "output path '" + path + "' is a directory");
+  const auto slash = path.rfind('/');
+  const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
+  if (access(folder.c_str(), W_OK | X_OK) != 0)
+    throw Error(ExitCode::io, "cannot write '" + path + "': " + std::strerror(errno));
 }
 
 File AtomicFile::create_hdf5(int deflate) const {
   errno = 0;
-  const hid_t id = create_file(temporary_);
+  const hid_t id = create_file(temporary_, shared_);
   if (id < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
                                   (err ? std::string(": ") + std::strerror(err) : std::string()));
   }
-  return File(Handle(id, H5Fclose), temporary_, deflate);
+  return File(Handle(id, H5Fclose), temporary_, deflate, shared_);
 }
 
 AtomicFile::~AtomicFile() {
-  if (!committed_) std::remove(temporary_.c_str());
+  if (!committed_ && (!shared_ || ranks::root())) std::remove(temporary_.c_str());
 }
 
 void AtomicFile::commit() {
-  if (std::rename(temporary_.c_str(), path_.c_str()) != 0)
-    throw Error(ExitCode::io, "cannot rename '" + temporary_ + "' to '" + path_ + "': " +
-                                  std::strerror(errno));
+  ranks::Failure failure;
+  if ((!shared_ || ranks::root()) && std::rename(temporary_.c_str(), path_.c_str()) != 0)
+    failure = {static_cast<int>(ExitCode::io), "cannot rename '" + temporary_ + "' to '" + path_ +
+                                                   "': " + std::strerror(errno)};
+  if (shared_) failure = ranks::first_failure(failure);
+  if (failure.code != 0) throw Error(ExitCode::io, failure.message);
   committed_ = true;
 }
 

@@ -1,12 +1,17 @@
 #pragma once
 // HDF5 (C API) with RAII: every handle closes itself; every failure is a qmaps::Error naming the
 // file and the object. AtomicFile writes under a temporary name and renames when complete.
+// A shared file (qmaps-mpi, parallel HDF5) is written by every rank together (core/ranks.hpp):
+// each call on it is collective; whole datasets are rank 0's, and each rank writes its own part
+// of a column, with as many write_part calls on every rank (empty ones where it has no more).
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
 
 #include <hdf5.h>
+
+#include "core/ranks.hpp"
 
 namespace qmaps::h5 {
 
@@ -38,8 +43,8 @@ class Group {
  public:
   // `deflate`: the gzip level (1-9) of the datasets written here and in groups created from
   // here, chunked and shuffled; 0: contiguous and uncompressed.
-  Group(Handle h, std::string path, int deflate = 0)
-      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate) {}
+  Group(Handle h, std::string path, int deflate = 0, bool shared = false)
+      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate), shared_(shared) {}
   Group create_group(const std::string& name) const;
   Group open_group(const std::string& name) const;
   bool has(const std::string& name) const;
@@ -82,6 +87,7 @@ class Group {
   Handle h_;
   std::string path_;
   int deflate_ = 0;
+  bool shared_ = false;
 };
 
 class File {
@@ -96,19 +102,25 @@ class File {
 
  private:
   friend class AtomicFile;
-  File(Handle h, std::string path, int deflate = 0)
-      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate) {}
+  File(Handle h, std::string path, int deflate = 0, bool shared = false)
+      : h_(std::move(h)), path_(std::move(path)), deflate_(deflate), shared_(shared) {}
   Handle h_;
   std::string path_;
   int deflate_ = 0;  // the gzip level of the datasets written from root() on (0: none)
+  bool shared_ = false;
 };
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
 // commit, the temporary is removed. A killed process leaves no file under the final name.
 // Constructed, it has checked that <path> can be written (it is no directory, its folder exists).
+// Shared (by default where there are several ranks; every rank's call), the temporary is named by rank 0's pid, and rank 0
+// alone renames or removes it.
 class AtomicFile {
  public:
-  explicit AtomicFile(std::string path);
+  explicit AtomicFile(std::string path, bool shared = ranks::count() > 1);
+  // Throws the io error the constructor would for `path` (a directory, or a folder that does
+  // not exist or cannot be written), with no other effect.
+  static void check_writable(const std::string& path);
   // The HDF5 file at the temporary, its datasets gzip-compressed at level `deflate` (1-9; 0:
   // none); errors name <path>.
   File create_hdf5(int deflate = 0) const;
@@ -121,6 +133,7 @@ class AtomicFile {
 
  private:
   std::string path_, temporary_;
+  bool shared_ = false;
   bool committed_ = false;
 };
 

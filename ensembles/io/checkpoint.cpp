@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/escape.hpp"
+#include "core/ranks.hpp"
 #include "core/version.hpp"
 
 namespace qmaps {
@@ -15,13 +16,26 @@ Error corrupt(const std::string& path, const std::string& what) {
   return Error(ExitCode::io, "'" + path + "' is not a checkpoint qmaps can resume: " + what);
 }
 
-// Reads dataset `name` of `g`, which must hold exactly out.size() elements, into `out`.
+// Reads elements [first, first + out.size()) of dataset `name` of `g`, which must hold exactly
+// `total` elements, into `out`.
 template <class T>
-void read_column(const h5::Group& g, const std::string& name, std::span<T> out) {
-  if (g.shape(name) != std::vector<hsize_t>{out.size()})
+void read_column(const h5::Group& g, const std::string& name, std::span<T> out, std::size_t first,
+                 std::size_t total) {
+  if (g.shape(name) != std::vector<hsize_t>{total})
     throw Error(ExitCode::io, "HDF5: dataset " + g.path() + "/" + name + " does not hold " +
-                                  std::to_string(out.size()) + " elements");
-  g.read_part<T>(name, 0, out);
+                                  std::to_string(total) + " elements");
+  g.read_part<T>(name, first, out);
+}
+template <class T>
+void read_column(const h5::Group& g, const std::string& name, std::span<T> out, Rows rows) {
+  read_column(g, name, out, rows.first, rows.total);
+}
+template <class T>
+std::vector<T> read_column(const h5::Group& g, const std::string& name, std::size_t first,
+                           std::size_t count, std::size_t total) {
+  std::vector<T> out(count);
+  read_column(g, name, std::span<T>(out), first, total);
+  return out;
 }
 
 Error bad(const h5::Group& g, const std::string& what) {
@@ -49,15 +63,20 @@ void write_checkpoint(const std::string& path, RunRecord record, const h5::Group
   record.per_orbit = true;
   write_run(root, record);
   root.attr("checkpoint_version", checkpoint_version);
-  if (initial) copy_phase(*initial, root.create_group("initial"), record.ensemble.orbits);
-  if (record.observers) write_kept(root, *record.observers);
+  const std::size_t n = record.ensemble.orbits;
+  const Rows rows = record.rows.count > 0 ? record.rows : Rows{0, n, n};
+  if (initial) copy_phase(*initial, root.create_group("initial"), rows);
+  if (record.observers) write_kept(root, *record.observers, rows);
   file.close();
   out.commit();
 }
 
-void write_kept(const h5::Group& root, const Observers& observers) {
-  for (const auto& s : observers.sections)
-    root.open_group("sections").open_group(s.name).write("kept", s.points->kept());
+void write_kept(const h5::Group& root, const Observers& observers, Rows rows) {
+  for (const auto& s : observers.sections) {
+    const auto kept = s.points->kept();
+    write_rows<std::int64_t>(root.open_group("sections").open_group(s.name), "kept", kept,
+                             rows.count > 0 ? rows : Rows{0, kept.size(), kept.size()});
+  }
 }
 
 h5::File open_checkpoint(const std::string& path) {
@@ -78,24 +97,26 @@ h5::File open_checkpoint(const std::string& path) {
   return file;
 }
 
-void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, std::size_t first,
-                   std::size_t count) {
-  const std::size_t n = count ? count : e.orbits;
-  if (first + n > e.orbits) throw std::logic_error("read_ensemble: orbits beyond the ensemble");
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows rows,
+                   std::size_t first) {
+  if (rows.count == 0) rows = {0, e.orbits, e.orbits};
+  const std::size_t n = rows.count;
+  if (first + n > e.orbits || rows.first + n > rows.total)
+    throw std::logic_error("read_ensemble: orbits beyond the ensemble");
   const auto state = root.open_group("final").open_group("state");
   const auto names = model.state_names();
   for (std::size_t k = 0; k < names.size(); ++k)
-    read_column(state, std::string(names[k]), e.state[k].span().subspan(first, n));
+    read_column(state, std::string(names[k]), e.state[k].span().subspan(first, n), rows);
   e.step = state.attr_int64("step");
   const auto escape = root.open_group("escape");
-  read_column(escape, "step", e.escape_step.span().subspan(first, n));
-  read_column(escape, "reason", e.escape_reason.span().subspan(first, n));
+  read_column(escape, "step", e.escape_step.span().subspan(first, n), rows);
+  read_column(escape, "reason", e.escape_reason.span().subspan(first, n), rows);
   const auto invariants = root.open_group("invariants");
   const auto& inv_names = model.invariant_names();
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
     const auto g = invariants.open_group(inv_names[k]);
-    read_column(g, "initial", e.invariant_initial[k].span().subspan(first, n));
-    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().subspan(first, n));
+    read_column(g, "initial", e.invariant_initial[k].span().subspan(first, n), rows);
+    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().subspan(first, n), rows);
   }
   // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and finite states,
   // invariants and drifts for the orbits that have not escaped.
@@ -123,26 +144,29 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, std::
   e.fill_padding();
 }
 
-void restore_observers(const h5::Group& root, Observers& o) {
+void restore_observers(const h5::Group& root, Observers& o, Rows rows) {
+  const bool counts_here = ranks::root();  // each histogram's counts, once over the ranks
   if (!o.densities.empty()) {
     const auto histograms = root.open_group("histograms");
     for (auto& d : o.densities)
-      restore_histogram(histograms.open_group(d.histogram.name()), "counts", d.histogram);
+      if (counts_here) restore_histogram(histograms.open_group(d.histogram.name()), "counts", d.histogram);
   }
   if (o.sections.empty()) return;
   const auto sections = root.open_group("sections");
   for (auto& s : o.sections) {
     const auto g = sections.open_group(s.name);
-    restore_histogram(g, "density", s.density);
-    if (s.mode == SectionMode::exact) {
+    if (counts_here) restore_histogram(g, "density", s.density);
+    if (s.mode == SectionMode::exact && counts_here) {
       if (!g.has_attr("interpolated")) throw bad(g, "it has no attribute interpolated");
       s.interpolated = g.attr_int64("interpolated");
       if (s.interpolated < 0 || s.interpolated > s.density.samples())
         throw bad(g, "interpolated is " + std::to_string(s.interpolated) + ", not 0 to crossings");
     }
-    // The points kept per orbit, each within the orbit's slots, say how many points there are.
+    // The points kept per orbit, each within the orbit's slots, say how many points there are:
+    // this process's follow those of the orbits before its rows.
     SectionPoints& kept = *s.points;
-    const auto counts = g.read_int64("kept", kept.kept().size());
+    const Rows orbits = rows.count > 0 ? rows : Rows{0, kept.kept().size(), kept.kept().size()};
+    const auto counts = read_column<std::int64_t>(g, "kept", orbits.first, orbits.count, orbits.total);
     std::size_t points = 0;
     for (const std::int64_t k : counts) {
       if (k < 0 || k > kept.per_orbit())
@@ -150,17 +174,24 @@ void restore_observers(const h5::Group& root, Observers& o) {
                          std::to_string(kept.per_orbit()));
       points += static_cast<std::size_t>(k);
     }
-    const auto orbit = g.read_int64("orbit", points), step = g.read_int64("step", points);
-    const auto x = g.read_doubles("x", points), y = g.read_doubles("y", points);
+    const auto mine = static_cast<std::int64_t>(points);
+    const auto before = static_cast<std::size_t>(ranks::before(mine));
+    const auto total = static_cast<std::size_t>(ranks::sum(mine));
+    const auto orbit = read_column<std::int64_t>(g, "orbit", before, points, total);
+    const auto step = read_column<std::int64_t>(g, "step", before, points, total);
+    const auto x = read_column<double>(g, "x", before, points, total);
+    const auto y = read_column<double>(g, "y", before, points, total);
     // Each orbit's points in step order, orbit after orbit, as many as it keeps.
     kept.clear();
+    const auto first = static_cast<std::int64_t>(orbits.first);
     for (std::size_t i = 0; i < points; ++i) {
       const bool ordered = i == 0 || orbit[i] > orbit[i - 1] ||
                            (orbit[i] == orbit[i - 1] && step[i] > step[i - 1]);
-      if (!ordered || orbit[i] < 0 || static_cast<std::size_t>(orbit[i]) >= counts.size() ||
-          step[i] < 1 || !std::isfinite(x[i]) || !std::isfinite(y[i]))
-        throw bad(g, "point " + std::to_string(i) + " is not one a run records");
-      kept.keep(static_cast<std::size_t>(orbit[i]), step[i], x[i], y[i]);
+      if (!ordered || orbit[i] < first ||
+          static_cast<std::size_t>(orbit[i] - first) >= counts.size() || step[i] < 1 ||
+          !std::isfinite(x[i]) || !std::isfinite(y[i]))
+        throw bad(g, "point " + std::to_string(before + i) + " is not one a run records");
+      kept.keep(static_cast<std::size_t>(orbit[i] - first), step[i], x[i], y[i]);
     }
     if (!std::ranges::equal(counts, kept.kept()))
       throw bad(g, "its points are not spread over the orbits as kept says");

@@ -22,17 +22,21 @@ inline constexpr const char* checkpoint_suffix = ".ckpt";
 // the run's /initial group, copied into the checkpoint.
 void write_checkpoint(const std::string& path, RunRecord record, const h5::Group* initial);
 
-// /sections/<name>/kept: the points each orbit keeps (a checkpoint's and a shard's).
-void write_kept(const h5::Group& root, const Observers& observers);
+// /sections/<name>/kept: the points each orbit keeps (a checkpoint's and a shard's), at the
+// ensemble's rows of the file (count 0: the ensemble is the file's).
+void write_kept(const h5::Group& root, const Observers& observers, Rows rows = {});
 
 // The checkpoint at `path`, opened for reading once it is known to be one this qmaps can resume.
 h5::File open_checkpoint(const std::string& path);
-// Fills orbits [first, first + count) of `e` (laid out for the checkpoint's map) with the
-// checkpoint's `count` orbits (by default all of `e`: a checkpoint's own ensemble; else a shard's
-// place in the whole run's), and e.step with its step.
-void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, std::size_t first = 0,
-                   std::size_t count = 0);
-// Sets the counts and points of `o` (built from the checkpoint's configuration) to the checkpoint's.
-void restore_observers(const h5::Group& root, Observers& o);
+// Fills orbits [at, at + rows.count) of `e` (laid out for the checkpoint's map) with the file's
+// rows [rows.first, rows.first + rows.count) of rows.total, and e.step with its step. By default
+// (count 0) the file's orbits are all of e's: a checkpoint's own ensemble. A shard's go to its
+// place `at` in the whole run's; a rank of qmaps-mpi reads its rows of the run's checkpoint.
+void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows rows = {},
+                   std::size_t at = 0);
+// Sets the counts and points of `o` (built from the checkpoint's configuration, for rows.count
+// orbits) to those of the file's rows; the histograms' counts go to rank 0 alone (core/ranks.hpp),
+// so that the ranks' add up to the file's.
+void restore_observers(const h5::Group& root, Observers& o, Rows rows = {});
 
 }  // namespace qmaps

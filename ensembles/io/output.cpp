@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <vector>
 
+#include <unistd.h>
 #include <omp.h>
 
+#include "core/ranks.hpp"
 #include "core/version.hpp"
 
 namespace qmaps {
@@ -26,17 +28,25 @@ void for_each_row(std::size_t count, int threads, Row row) {
   for (long long r = 0; r < rows; ++r) row(static_cast<std::size_t>(r));
 }
 
-// Datasets of n elements of T (doubles unless said), computed orbits_per_part rows at a time:
-// fill(first, count, values) sets values[k][0, count) of column k for rows [first, first + count).
+// The first row and the count of part p of `count` rows (empty past them).
+std::pair<std::size_t, std::size_t> part_of(std::size_t p, std::size_t count) {
+  const std::size_t first = std::min(p * orbits_per_part, count);
+  return {first, std::min(orbits_per_part, count - first)};
+}
+
+// Datasets of rows.total elements of T (doubles unless said), computed orbits_per_part rows at a
+// time: fill(first, count, values) sets values[k][0, count) of column k for this process's rows
+// [first, first + count), written at rows.first + first.
 template <class T = double, class Fill>
-void write_columns(const std::vector<Column>& columns, std::size_t n, Fill fill) {
-  for (const auto& c : columns) c.group.create_column<T>(c.name, n);
-  std::vector<std::vector<T>> values(columns.size(), std::vector<T>(std::min(n, orbits_per_part)));
-  for (std::size_t first = 0; first < n; first += orbits_per_part) {
-    const std::size_t count = std::min(orbits_per_part, n - first);
-    fill(first, count, values);
+void write_columns(const std::vector<Column>& columns, Rows rows, Fill fill) {
+  for (const auto& c : columns) c.group.create_column<T>(c.name, rows.total);
+  std::vector<std::vector<T>> values(columns.size(),
+                                     std::vector<T>(std::min(rows.count, orbits_per_part)));
+  for (std::size_t p = 0, parts = parts_of(rows.count); p < parts; ++p) {
+    const auto [first, count] = part_of(p, rows.count);
+    if (count > 0) fill(first, count, values);
     for (std::size_t k = 0; k < columns.size(); ++k)
-      columns[k].group.write_part<T>(columns[k].name, first,
+      columns[k].group.write_part<T>(columns[k].name, rows.first + first,
                                      std::span<const T>(values[k]).first(count));
   }
 }
@@ -57,12 +67,18 @@ void write_histogram(const h5::Group& g, const Histogram& h, const std::string& 
   g.attr("samples", h.samples());
 }
 
-void write_observers(const h5::Group& root, const Observers& o, long long stride) {
+// A histogram as every rank's counts add up to.
+void write_histogram_over_ranks(const h5::Group& g, Histogram h, const std::string& counts_name) {
+  add_over_ranks(h);
+  write_histogram(g, h, counts_name);
+}
+
+void write_observers(const h5::Group& root, const Observers& o, long long stride, Rows orbits) {
   if (!o.densities.empty()) {
     const auto histograms = root.create_group("histograms");
     for (const auto& d : o.densities) {
       const auto g = histograms.create_group(d.histogram.name());
-      write_histogram(g, d.histogram, "counts");
+      write_histogram_over_ranks(g, d.histogram, "counts");
       g.attr("stride", static_cast<std::int64_t>(stride));
     }
   }
@@ -71,19 +87,23 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
   for (const auto& s : o.sections) {
     const auto g = sections.create_group(s.name);
     // The points' columns in parts, read from the slots in (orbit, step) order: no second copy.
+    // A rank's points follow those of the ranks before it, as its orbits do.
     const SectionPoints& points = *s.points;
     const std::size_t n = points.size();
+    const auto mine = static_cast<std::int64_t>(n);
+    const Rows rows{static_cast<std::size_t>(ranks::before(mine)), n,
+                    static_cast<std::size_t>(ranks::sum(mine))};
     std::vector<SectionPoint> part(std::min(n, orbits_per_part));
     SectionPoints::Cursor cursor;
-    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, n,
+    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, rows,
                                 [&](std::size_t first, std::size_t count, auto& values) {
                                   points.read(first, std::span(part).first(count), cursor);
                                   for (std::size_t i = 0; i < count; ++i) {
-                                    values[0][i] = part[i].orbit;
+                                    values[0][i] = part[i].orbit + static_cast<std::int64_t>(orbits.first);
                                     values[1][i] = part[i].step;
                                   }
                                 });
-    write_columns({{g, "x"}, {g, "y"}}, n,
+    write_columns({{g, "x"}, {g, "y"}}, rows,
                   [&](std::size_t first, std::size_t count, auto& values) {
                     points.read(first, std::span(part).first(count), cursor);
                     for (std::size_t i = 0; i < count; ++i) {
@@ -91,22 +111,27 @@ void write_observers(const h5::Group& root, const Observers& o, long long stride
                       values[1][i] = part[i].y;
                     }
                   });
-    write_histogram(g, s.density, "density");
+    Histogram density = s.density;
+    add_over_ranks(density);
+    write_histogram(g, density, "density");
     g.attr("plane", std::string(coordinate_name(s.plane)));
     g.attr("value", s.value);
     g.attr("direction", std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
     g.attr("mode", std::string(section_mode_names[static_cast<std::size_t>(s.mode)]));
-    if (s.mode == SectionMode::exact) g.attr("interpolated", s.interpolated);
+    if (s.mode == SectionMode::exact) g.attr("interpolated", ranks::sum(s.interpolated));
     g.attr("cap", s.cap);
-    g.attr("crossings", s.density.samples());
+    g.attr("crossings", density.samples());
   }
 }
 
 // /chaos (docs/chaos.md): each indicator of every orbit; each one's histogram and quartiles over
 // the orbits that stayed bounded (log10 of the GALIs); the orbits' classes by MEGNO.
-void write_chaos(const h5::Group& root, const RunRecord& run) {
+void write_chaos(const h5::Group& root, const RunRecord& run, Rows rows) {
   if (run.model.indicator_names().empty()) return;
-  const ChaosTable t = chaos_table(run.model, run.ensemble, run.chaos.megno_threshold);
+  ChaosTable t = chaos_table(run.model, run.ensemble, run.chaos.megno_threshold);
+  t.regular = ranks::sum(t.regular);
+  t.chaotic = ranks::sum(t.chaotic);
+  t.escaped = ranks::sum(t.escaped);
   const auto chaos = root.create_group("chaos");
   chaos.attr("megno_threshold", run.chaos.megno_threshold);
   chaos.attr("regular", t.regular);
@@ -116,12 +141,14 @@ void write_chaos(const h5::Group& root, const RunRecord& run) {
   chaos.attr("class_codes", std::string("0 regular, 1 chaotic (megno > megno_threshold), 2 escaped"));
   chaos.attr("unit", std::string("Lyapunov exponents per step"));
   if (run.per_orbit) {
-    for (std::size_t k = 0; k < t.names.size(); ++k) chaos.write(t.names[k], t.values[k]);
-    chaos.write("class", t.classes);
+    for (std::size_t k = 0; k < t.names.size(); ++k)
+      write_rows<double>(chaos, t.names[k], t.values[k], rows);
+    write_rows<std::uint8_t>(chaos, "class", t.classes, rows);
   }
   const auto histograms = chaos.create_group("histograms");
   for (std::size_t k = 0; k < t.names.size(); ++k) {
-    const std::vector<double> bounded = t.bounded(k);
+    // Every rank's values, in orbit order: the same quartiles and range on every rank.
+    const std::vector<double> bounded = ranks::gathered(t.bounded(k));
     double lo = 0, hi = 1;
     if (!bounded.empty()) {
       const auto [min, max] = std::minmax_element(bounded.begin(), bounded.end());
@@ -225,10 +252,12 @@ std::string utc_now() {
 std::string session_line(long long first, long long last, const Execution& x,
                          const std::string& started, const std::string& finished,
                          const std::string& command_line) {
+  const int n = ranks::count();
   return "steps " + std::to_string(first) + "-" + std::to_string(last) + ", " +
-         std::string(isa_name(x.isa)) + ", " + std::to_string(x.threads) + " thread" +
-         (x.threads == 1 ? "" : "s") + ", " + started + " to " + finished + ": " + command_line +
-         "\n";
+         std::string(isa_name(x.isa)) + ", " +
+         (n > 1 ? std::to_string(n) + " ranks x " : std::string()) + std::to_string(x.threads) +
+         " thread" + (x.threads == 1 ? "" : "s") + (n > 1 ? " each" : "") + ", " + started +
+         " to " + finished + ": " + command_line + "\n";
 }
 
 void create_phase(const h5::Group& g, std::size_t n) {
@@ -251,13 +280,45 @@ void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> poi
   }
 }
 
-void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n) {
-  create_phase(to, n);
-  std::vector<Phase> part(std::min(n, orbits_per_part));
-  for (std::size_t first = 0; first < n; first += orbits_per_part) {
-    const auto points = std::span<Phase>(part).first(std::min(orbits_per_part, n - first));
-    read_phase_part(from, first, points);
-    write_phase_part(to, first, points);
+std::size_t parts_of(std::size_t count) {
+  return static_cast<std::size_t>(
+      ranks::max(static_cast<std::int64_t>((count + orbits_per_part - 1) / orbits_per_part)));
+}
+
+void add_over_ranks(Histogram& h) {
+  std::vector<std::int64_t> cells(h.counts().begin(), h.counts().end());
+  cells.push_back(h.underflow());
+  cells.push_back(h.overflow());
+  ranks::sum(cells);
+  const std::int64_t over = cells.back();
+  cells.pop_back();
+  const std::int64_t under = cells.back();
+  cells.pop_back();
+  h.restore(cells, under, over);
+}
+
+template <class T>
+void write_rows(const h5::Group& g, const std::string& name, std::span<const T> values, Rows rows) {
+  g.create_column<T>(name, rows.total);
+  for (std::size_t p = 0, parts = parts_of(rows.count); p < parts; ++p) {
+    const auto [first, count] = part_of(p, rows.count);
+    g.write_part<T>(name, rows.first + first, values.subspan(first, count));
+  }
+}
+template void write_rows<double>(const h5::Group&, const std::string&, std::span<const double>, Rows);
+template void write_rows<std::int64_t>(const h5::Group&, const std::string&,
+                                       std::span<const std::int64_t>, Rows);
+template void write_rows<std::uint8_t>(const h5::Group&, const std::string&,
+                                       std::span<const std::uint8_t>, Rows);
+
+void copy_phase(const h5::Group& from, const h5::Group& to, Rows rows) {
+  create_phase(to, rows.total);
+  std::vector<Phase> part(std::min(rows.count, orbits_per_part));
+  for (std::size_t p = 0, parts = parts_of(rows.count); p < parts; ++p) {
+    const auto [first, count] = part_of(p, rows.count);
+    const auto points = std::span<Phase>(part).first(count);
+    read_phase_part(from, rows.first + first, points);
+    write_phase_part(to, rows.first + first, points);
   }
 }
 
@@ -274,6 +335,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const Model& model = run.model;
   const Ensemble& e = run.ensemble;
   const std::size_t n = e.orbits;
+  const Rows rows = run.rows.count > 0 ? run.rows : Rows{0, n, n};
   // The per-orbit values computed for the file (final phase points, invariants, drifts) are
   // computed by the run's threads, each orbit's alone: the same values whatever their number.
   const int threads = std::max(run.execution.threads, 1);
@@ -286,19 +348,25 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     root.attr("param." + std::string(specs[k].name), values[k]);
   root.attr("steps", static_cast<std::int64_t>(run.plan.total));
   if (!model.time_per_orbit()) root.attr("time", model.time(e, 0));
-  root.attr("orbits", static_cast<std::int64_t>(n));
+  root.attr("orbits", static_cast<std::int64_t>(rows.total));
   root.attr("ensemble", run.ensemble_kind);
   root.attr("ensemble_description", run.ensemble_description);
-  root.attr("rejected", static_cast<std::int64_t>(run.rejected));
+  root.attr("rejected", ranks::sum(static_cast<std::int64_t>(run.rejected)));
   root.attr("seed", static_cast<std::int64_t>(run.seed));
   root.attr("start", std::string(start_name(run.start)));
   root.attr("stride", static_cast<std::int64_t>(run.plan.stride));
   root.attr("escape_bound", run.plan.escape_bound);
-  root.attr("escaped", static_cast<std::int64_t>(e.escaped()));
+  root.attr("escaped", ranks::sum(static_cast<std::int64_t>(e.escaped())));
   root.attr("per_orbit", static_cast<std::int64_t>(run.per_orbit));
   root.attr("isa", std::string(isa_name(run.execution.isa)));
   root.attr("threads", static_cast<std::int64_t>(run.execution.threads));
   root.attr("chains", static_cast<std::int64_t>(run.execution.chains));
+  root.attr("ranks", static_cast<std::int64_t>(ranks::count()));
+  char host[256] = {};
+  gethostname(host, sizeof host - 1);
+  std::string hosts;
+  for (const auto& h : ranks::gathered(std::string(host))) hosts += h + "\n";
+  root.attr("hosts", hosts);
   root.attr("config", run.config_text);
   root.attr("config_resolved", run.config_resolved);
   root.attr("command_line", run.command_line);
@@ -316,7 +384,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     const auto final_group = root.create_group("final");
     write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
                    {final_group, "p2"}, {final_group, "t"}},
-                  n, [&](std::size_t first, std::size_t count, auto& values) {
+                  rows, [&](std::size_t first, std::size_t count, auto& values) {
                     for_each_row(count, threads, [&](std::size_t i) {
                       const Phase p = model.phase(e, first + i);
                       for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
@@ -327,7 +395,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     state.attr("step", static_cast<std::int64_t>(e.step));
     const auto names = model.state_names();
     for (std::size_t k = 0; k < names.size(); ++k)
-      state.write(std::string(names[k]), e.state[k].span().first(n));
+      write_rows<double>(state, std::string(names[k]), e.state[k].span().first(n), rows);
   }
 
   const auto invariants = root.create_group("invariants");
@@ -336,23 +404,24 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   if (run.per_orbit) {
     std::vector<Column> finals;
     for (std::size_t k = 0; k < inv_names.size(); ++k) {
-      groups[k].write("initial", e.invariant_initial[k].span().first(n));
+      write_rows<double>(groups[k], "initial", e.invariant_initial[k].span().first(n), rows);
       finals.push_back({groups[k], "final"});
     }
-    write_columns(finals, n, [&](std::size_t first, std::size_t count, auto& values) {
+    write_columns(finals, rows, [&](std::size_t first, std::size_t count, auto& values) {
       for_each_row(count, threads, [&](std::size_t i) {
         const auto v = model.invariants(e, first + i);
         for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
       });
     });
     for (std::size_t k = 0; k < inv_names.size(); ++k)
-      groups[k].write("max_abs_drift", e.invariant_max_drift[k].span().first(n));
+      write_rows<double>(groups[k], "max_abs_drift", e.invariant_max_drift[k].span().first(n), rows);
   }
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    const DriftHistogram drift = drift_histogram(e, k, threads);
+    DriftHistogram drift = drift_histogram(e, k, threads);
+    add_over_ranks(drift.histogram);
     const auto dg = groups[k].create_group("drift_histogram");
     write_histogram(dg, drift.histogram, "counts");
-    dg.attr("zero", drift.zero);
+    dg.attr("zero", ranks::sum(drift.zero));
   }
   if (run.image) {
     Histogram image = run.image->histogram;
@@ -365,16 +434,16 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       const double v[2] = {e.invariant_initial[ix][i], e.invariant_initial[iy][i]};
       image.add(v);
     }
-    write_histogram(invariants.create_group("image"), image, "counts");
+    write_histogram_over_ranks(invariants.create_group("image"), image, "counts");
   }
-  if (run.observers) write_observers(root, *run.observers, run.plan.stride);
-  write_chaos(root, run);
+  if (run.observers) write_observers(root, *run.observers, run.plan.stride, rows);
+  write_chaos(root, run, rows);
   if (run.trajectories) write_trajectories(root, *run.trajectories);
 
   if (!run.per_orbit) return;
   const auto escape = root.create_group("escape");
-  escape.write("step", e.escape_step.span().first(n));
-  escape.write("reason", e.escape_reason.span().first(n));
+  write_rows<std::int64_t>(escape, "step", e.escape_step.span().first(n), rows);
+  write_rows<std::uint8_t>(escape, "reason", e.escape_reason.span().first(n), rows);
   std::string codes;
   for (int k = 0; k <= static_cast<int>(EscapeReason::wrong_branch); ++k)
     codes += (k ? ", " : "") + std::to_string(k) + " " +

@@ -43,8 +43,19 @@ ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_thres
 // The value of rank round(f (n − 1)) among n values; NaN for none.
 double quantile(std::vector<double> values, double f);
 
+// The rows of a file's per-orbit datasets that this process writes: [first, first + count) of
+// total. A rank of qmaps-mpi writes its orbits' rows into the one file of the run; any other
+// process writes all of them (first 0, count = total).
+struct Rows {
+  std::size_t first = 0, count = 0, total = 0;
+};
+
+// The histogram's counts, underflow and overflow added over every rank (core/ranks.hpp).
+void add_over_ranks(Histogram& h);
+
 // Everything of a run but /initial, which is written first, by parts (create_phase, write_phase_part),
-// as the orbits start.
+// as the orbits start. On a shared file (qmaps-mpi) every rank writes it together: each its own
+// rows, and the rest as rank 0 has it.
 struct RunRecord {
   const Model& model;
   const Ensemble& ensemble;
@@ -66,9 +77,10 @@ struct RunRecord {
   // A shard's file (docs/cli.md): "k/K", and its orbits' place in the ensemble of orbits_total.
   std::string shard{};
   std::int64_t shard_first = 0, orbits_total = 0;
+  Rows rows{};  // the ensemble's rows of the file; count 0: the ensemble is the file's
 };
 
-// One session of a run: its steps, path, threads, times and command line.
+// One session of a run: its steps, path, ranks and threads, times and command line.
 std::string session_line(long long first, long long last, const Execution& x,
                          const std::string& started, const std::string& finished,
                          const std::string& command_line);
@@ -82,8 +94,16 @@ inline constexpr std::size_t orbits_per_part = std::size_t{1} << 16;
 void create_phase(const h5::Group& g, std::size_t n);
 void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points);
 void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points);
-// Copies the phase datasets of `from` (n orbits) into new ones of `to`, by parts.
-void copy_phase(const h5::Group& from, const h5::Group& to, std::size_t n);
+// The parts of `count` rows, orbits_per_part at a time: as many on every rank (the most any rank
+// has), so that the collective writes of a shared file pair up; past its rows a rank's are empty.
+std::size_t parts_of(std::size_t count);
+// The dataset `name` of rows.total elements (T: double, std::int64_t or std::uint8_t): this
+// process's rows [rows.first, rows.first + rows.count) from `values`, by parts.
+template <class T>
+void write_rows(const h5::Group& g, const std::string& name, std::span<const T> values, Rows rows);
+// Copies the phase datasets of `from` into new ones of `to`, both of rows.total orbits: rows
+// [rows.first, rows.first + rows.count), by parts.
+void copy_phase(const h5::Group& from, const h5::Group& to, Rows rows);
 
 // The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k
 // (the absolute drift where I_0 = 0, as qmaps info and check report it):

@@ -1,19 +1,65 @@
 // qmaps: ensembles of orbits of the integrable maps of H = |p|²/2 + A q1² + B q2² + α q1⁴ + β q2⁴
 // + δ q1² q2², advanced in SIMD across millions of initial conditions. See `qmaps --help`.
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+#ifdef QMAPS_MPI
+#include <mpi.h>
+#endif
 
 #include "core/error.hpp"
+#include "core/ranks.hpp"
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
 
+namespace {
+
+#ifdef QMAPS_MPI
+// qmaps-mpi: one rank of MPI_COMM_WORLD from start to end (core/ranks_mpi.cpp).
+struct MpiSession {
+  MpiSession(int& argc, char**& argv) {
+    int provided = 0;
+    MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  }
+  ~MpiSession() { MPI_Finalize(); }
+};
+#else
+// Started by mpirun (its environment says so), qmaps becomes qmaps-mpi, installed beside it: the
+// serial program itself needs no MPI to install or to start.
+void hand_over_to_mpi(char** argv) {
+  const char* size = std::getenv("OMPI_COMM_WORLD_SIZE");
+  if (!size) size = std::getenv("PMI_SIZE");
+  if (!size) return;
+  std::error_code error;
+  const auto mpi = std::filesystem::read_symlink("/proc/self/exe", error).parent_path() / "qmaps-mpi";
+  if (!error && access(mpi.c_str(), X_OK) == 0) {
+    argv[0] = const_cast<char*>(mpi.c_str());
+    execv(mpi.c_str(), argv);
+  }
+  if (std::atoi(size) > 1) {
+    std::cerr << "qmaps: error: started by mpirun, but this qmaps was built without qmaps-mpi "
+                 "(it needs OpenMPI and parallel HDF5: docs/scaling.md)\n";
+    std::exit(static_cast<int>(qmaps::ExitCode::unsupported));
+  }
+}
+#endif
+
+}  // namespace
+
 int main(int argc, char** argv) {
+#ifdef QMAPS_MPI
+  const MpiSession mpi(argc, argv);
+#else
+  hand_over_to_mpi(argv);
+#endif
   // A file-size limit makes a write fail (an io error, exit 3) instead of killing the process.
   std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"qmaps: ensembles of orbits of integrable maps of a quartic-potential Hamiltonian"};
@@ -114,10 +160,16 @@ int main(int argc, char** argv) {
     return code == 0 ? 0 : static_cast<int>(qmaps::ExitCode::usage);
   }
 
+  // Over several ranks every rank reports an error alike (ensembles/program/run_command.cpp):
+  // rank 0 prints it.
+  std::ostream silent(nullptr);
+  std::ostream& errors = qmaps::ranks::root() ? std::cerr : silent;
   try {
+    if (qmaps::ranks::count() > 1 && !*run_cmd)
+      throw qmaps::usage_error("under mpirun, qmaps runs `qmaps run` alone");
     if (*run_cmd) {
       for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
-      return qmaps::run_command(run, std::cerr);
+      return qmaps::run_command(run, errors);
     }
     if (*merge_cmd) return qmaps::merge_command(merge, std::cerr);
     if (*orbit_cmd) return qmaps::orbit_command(orbit, std::cout, std::cerr);
@@ -126,12 +178,12 @@ int main(int argc, char** argv) {
     if (*discover_cmd) return qmaps::discover_command(discover, std::cout);
     return qmaps::list_command(std::cout);
   } catch (const qmaps::Interrupted& e) {
-    std::cerr << "qmaps: " << e.what() << '\n';
+    errors << "qmaps: " << e.what() << '\n';
     std::signal(e.signal(), SIG_DFL);  // ended by the signal, as the caller asked
     std::raise(e.signal());
     return 128 + e.signal();
   } catch (const qmaps::Error& e) {
-    std::cerr << "qmaps: error: " << e.what() << '\n';
+    errors << "qmaps: error: " << e.what() << '\n';
     if (e.code() == qmaps::ExitCode::io) {
       // A file whose close failed (a full disk) stays open inside HDF5, whose exit handler would
       // then fail on it: the outputs are settled by now (no temporary is left), so end here.
@@ -141,7 +193,7 @@ int main(int argc, char** argv) {
     }
     return static_cast<int>(e.code());
   } catch (const std::exception& e) {
-    std::cerr << "qmaps: error: " << e.what() << '\n';
+    errors << "qmaps: error: " << e.what() << '\n';
     return static_cast<int>(qmaps::ExitCode::failure);
   }
 }

@@ -141,7 +141,7 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
           root.attr_int64("shard_first") != static_cast<std::int64_t>(first))
         throw Error(ExitCode::io, "its orbits are not shard " + s.shard.name() + "'s " +
                                       std::to_string(first) + " to " + std::to_string(first + n - 1));
-      read_ensemble(root, *r.model, e, first, n);
+      read_ensemble(root, *r.model, e, Rows{0, n, n}, first);
       if (e.step != r.plan.total)
         throw Error(ExitCode::io, "it stopped at step " + std::to_string(e.step) + " of " +
                                       std::to_string(r.plan.total));

@@ -7,6 +7,7 @@
 
 #include "core/error.hpp"
 #include "core/io/h5.hpp"
+#include "core/ranks.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/config/sweep_config.hpp"
@@ -22,6 +23,52 @@
 
 namespace qmaps {
 namespace {
+
+// Over several ranks (qmaps-mpi), a step that may fail on some ranks alone (a configuration, a
+// path; nothing collective inside) fails on every rank with the lowest failing rank's error, so
+// that all end alike, before anything is written. Alone, the step itself.
+template <class Step>
+void on_every_rank(Step step) {
+  if (ranks::count() == 1) return step();
+  ranks::Failure mine;
+  try {
+    step();
+  } catch (const Error& e) {
+    mine = {static_cast<int>(e.code()), e.what()};
+  } catch (const std::exception& e) {
+    mine = {static_cast<int>(ExitCode::failure), e.what()};
+  }
+  const ranks::Failure first = ranks::first_failure(mine);
+  if (first.code != 0) throw Error(static_cast<ExitCode>(first.code), first.message);
+}
+
+// Every rank runs the same configuration into the same file.
+void check_same_run(const Run& r) {
+  const std::string mine = r.config_resolved + "\n" + r.path;
+  if (ranks::from_root(mine) != mine)
+    throw usage_error("the ranks' configurations differ (or their outputs): rank " +
+                      std::to_string(ranks::rank()) + " runs another than rank 0");
+}
+
+// Over several ranks, a failure once the ranks write together (where the others cannot be told,
+// as they may wait in a collective write) ends every rank at once, the output's temporary
+// removed: `work` runs under this guard.
+template <class Work>
+int ending_every_rank_on_failure(const h5::AtomicFile& output, Work work) {
+  if (ranks::count() == 1) return work();
+  try {
+    return work();
+  } catch (const std::exception& e) {
+    const auto* error = dynamic_cast<const Error*>(&e);
+    const auto* interrupted = dynamic_cast<const Interrupted*>(&e);
+    std::fprintf(stderr, "qmaps: rank %d: %s%s\n", ranks::rank(),
+                 error && !interrupted ? "error: " : "", e.what());
+    std::remove(output.temporary().c_str());
+    ranks::abort(interrupted ? 128 + interrupted->signal()
+                 : error     ? static_cast<int>(error->code())
+                             : static_cast<int>(ExitCode::failure));
+  }
+}
 
 // Advances the ensemble to the last step in segments (exact: a segmented run equals one call),
 // writing a checkpoint every `checkpoint_every` steps and, on SIGINT, SIGTERM or SIGHUP, one
@@ -46,7 +93,9 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   };
 
   SelfSignal self_signal = SelfSignal::from_environment();
-  Progress progress(!options.quiet && isatty(STDERR_FILENO), log, r.orbits, first, r.plan.total);
+  const std::size_t orbits = r.shard ? r.orbits : r.total;  // the file's
+  Progress progress(!options.quiet && ranks::root() && isatty(STDERR_FILENO), log, orbits, first,
+                    r.plan.total);
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
@@ -64,23 +113,27 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     Observers part = blank.empty_copy();
     r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
     r.observers.merge(std::move(part));
-    const double took = progress.seconds() - t;
+    // Over several ranks, each decision below is taken alike on every rank: the longest segment
+    // sets the next length, a signal on any rank stops them all.
+    const double took = ranks::max(progress.seconds() - t);
     progress.update(e.step);
     if (options.on_segment) options.on_segment(e.step, r.plan.total);
     if (e.step == r.plan.total) break;
     self_signal.deliver_if_due(e.step);
-    if (interrupt.requested() && !options.checkpoint_on_interrupt) {
+    const int signal = static_cast<int>(ranks::max(std::int64_t{interrupt.signal()}));
+    if (signal != 0 && !options.checkpoint_on_interrupt) {
       progress.end();
-      log << "qmaps: " << signal_name(interrupt.signal()) << " at step " << e.step << " of "
+      log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
           << r.plan.total << ": stopped, nothing written\n";
       return static_cast<int>(ExitCode::interrupted);
     }
-    if (interrupt.requested()) {
+    if (signal != 0) {
       save();
       progress.end();
-      log << "qmaps: " << signal_name(interrupt.signal()) << " at step "
-          << e.step << " of " << r.plan.total << ": checkpoint written to " << checkpoint
-          << "; continue with: qmaps run --resume " << checkpoint << '\n';
+      if (ranks::root())
+        log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
+            << r.plan.total << ": checkpoint written to " << checkpoint
+            << "; continue with: qmaps run --resume " << checkpoint << '\n';
       return static_cast<int>(ExitCode::interrupted);
     }
     if (r.checkpoint_every > 0 && e.step % r.checkpoint_every == 0) save();
@@ -99,27 +152,61 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     file.close();
   });
   output.commit();
-  std::remove(checkpoint.c_str());
-  const double writing = since(writing_began);
+  if (ranks::root()) std::remove(checkpoint.c_str());
+  const double writing = ranks::max(since(writing_began));
+  const double stepping = ranks::max(seconds), started_in = ranks::max(starting);
+  const auto escaped = ranks::sum(static_cast<std::int64_t>(e.escaped()));
+  const auto rejected = ranks::sum(static_cast<std::int64_t>(r.rejected));
+  if (!ranks::root()) return 0;
 
-  const double rate = static_cast<double>(r.orbits) * static_cast<double>(r.plan.total - first) /
-                      (seconds > 0 ? seconds : 1e-300);
+  const double rate = static_cast<double>(orbits) * static_cast<double>(r.plan.total - first) /
+                      (stepping > 0 ? stepping : 1e-300);
+  const int n = ranks::count();
+  const std::string workers = (n > 1 ? std::to_string(n) + " ranks x " : std::string()) +
+                              std::to_string(r.x.threads) + " thread" +
+                              (r.x.threads == 1 ? "" : "s") + (n > 1 ? " each" : "");
   char line[512];
   std::snprintf(line, sizeof line,
-                "qmaps: %s, %zu orbits x %lld steps in %.3f s (%.3g particle-steps/s, %s, %d "
-                "thread%s), %zu escaped%s -> %s\n",
-                std::string(r.model->name()).c_str(), r.orbits, r.plan.total - first, seconds,
-                rate, std::string(isa_name(r.x.isa)).c_str(), r.x.threads,
-                r.x.threads == 1 ? "" : "s", e.escaped(),
-                r.rejects_points ? (", " + std::to_string(r.rejected) + " rejected").c_str() : "",
+                "qmaps: %s, %zu orbits x %lld steps in %.3f s (%.3g particle-steps/s, %s, %s), "
+                "%lld escaped%s -> %s\n",
+                std::string(r.model->name()).c_str(), orbits, r.plan.total - first, stepping,
+                rate, std::string(isa_name(r.x.isa)).c_str(), workers.c_str(),
+                static_cast<long long>(escaped),
+                r.rejects_points ? (", " + std::to_string(rejected) + " rejected").c_str() : "",
                 r.path.c_str());
   log << line;
   std::snprintf(line, sizeof line,
                 "qmaps: time by phase: starting %.3f s, stepping and observing %.3f s, writing "
                 "%.3f s\n",
-                starting, seconds, writing);
+                started_in, stepping, writing);
   log << line;
   return 0;
+}
+
+// Rank 0's trajectories over several ranks: each of their orbits started alone, as orbit i of the
+// ensemble starts whatever the orbits around it, and recorded from there.
+void record_alone(Run& r, const InitialConditions& initial_conditions) {
+  for (auto& t : r.trajectories) {
+    Ensemble few = r.model->ensemble(t.orbits.size());
+    for (std::size_t j = 0; j < t.orbits.size(); ++j) {
+      Ensemble one = r.model->ensemble(1);
+      initial_conditions.start(*r.model, one, r.start, r.plan.escape_bound,
+                               [](std::size_t, std::span<const Phase>) {}, 1, t.orbits[j]);
+      for (std::size_t k = 0; k < one.state.size(); ++k) few.state[k][j] = one.state[k][0];
+      few.escape_step[j] = one.escape_step[0];
+      few.escape_reason[j] = one.escape_reason[0];
+      for (std::size_t k = 0; k < one.invariant_initial.size(); ++k) {
+        few.invariant_initial[k][j] = one.invariant_initial[k][0];
+        few.invariant_max_drift[k][j] = one.invariant_max_drift[k][0];
+      }
+    }
+    few.fill_padding();
+    const std::vector<std::size_t> orbits = t.orbits;
+    for (std::size_t j = 0; j < orbits.size(); ++j) t.orbits[j] = j;
+    record(t, *r.model, few, r.plan);
+    t.orbits = orbits;
+    for (auto& o : t.orbit) o = static_cast<std::int64_t>(orbits[static_cast<std::size_t>(o)]);
+  }
 }
 
 int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
@@ -132,43 +219,70 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
   if (path.size() <= suffix.size() || path.compare(path.size() - suffix.size(), suffix.size(), suffix) != 0)
     throw usage_error("--resume " + path + ": a checkpoint is named <output>" + suffix);
 
-  const h5::File checkpoint = open_checkpoint(path);
-  const auto root = checkpoint.root();
-  try {
-    const Config config = Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
-    // A shard's checkpoint resumes the shard: its range of the ensemble's orbits.
-    RunOptions resumed = options;
-    const bool shard = root.has_attr("shard");
-    if (shard) resumed.shard = root.attr_string("shard");
-    const auto orbits = root.attr_int64(shard ? "orbits_total" : "orbits");
-    if (orbits <= 0) throw Error(ExitCode::io, "attribute orbits is " + std::to_string(orbits));
-    Run r = run_of(config, map_of(config, chaos_options_of(config)),
-                   static_cast<std::size_t>(orbits), resumed);
-    if (static_cast<std::int64_t>(r.orbits) != root.attr_int64("orbits"))
-      throw Error(ExitCode::io, "attribute orbits is " + std::to_string(root.attr_int64("orbits")) +
-                                    "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
-    r.path = path.substr(0, path.size() - suffix.size());
-    read_provenance(root, r);
-    r.rejected = static_cast<std::uint64_t>(root.attr_int64("rejected"));
-    r.rejects_points = r.rejected > 0;  // the kind itself is not rebuilt on resumption
-    r.sessions = root.attr_string("sessions");
-
-    h5::AtomicFile output(r.path);
-    auto file = output.create_hdf5(r.deflate);
-    const OutputLock lock(r.path);
+  std::optional<h5::File> checkpoint;
+  std::optional<Run> run;
+  const auto reading = [&](auto read) {
+    try {
+      read();
+    } catch (const Error& e) {
+      if (e.code() != ExitCode::io) throw;
+      throw Error(ExitCode::io, "checkpoint '" + path + "': " + e.what());
+    }
+  };
+  on_every_rank([&] {
+    checkpoint = open_checkpoint(path);
+    const auto root = checkpoint->root();
+    reading([&] {
+      const Config config =
+          Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
+      // A shard's checkpoint resumes the shard: its range of the ensemble's orbits.
+      RunOptions resumed = options;
+      const bool shard = root.has_attr("shard");
+      if (shard && ranks::count() > 1)
+        throw usage_error("--resume " + path + ": a shard's checkpoint resumes in one process");
+      if (shard) resumed.shard = root.attr_string("shard");
+      const auto orbits = root.attr_int64(shard ? "orbits_total" : "orbits");
+      if (orbits <= 0) throw Error(ExitCode::io, "attribute orbits is " + std::to_string(orbits));
+      run.emplace(run_of(config, map_of(config, chaos_options_of(config)),
+                         static_cast<std::size_t>(orbits), resumed));
+      Run& r = *run;
+      if (r.shard && static_cast<std::int64_t>(r.orbits) != root.attr_int64("orbits"))
+        throw Error(ExitCode::io, "attribute orbits is " + std::to_string(root.attr_int64("orbits")) +
+                                      "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
+      r.path = path.substr(0, path.size() - suffix.size());
+      read_provenance(root, r);
+      // The candidates rejected so far, counted once over the ranks.
+      r.rejected = ranks::root() ? static_cast<std::uint64_t>(root.attr_int64("rejected")) : 0;
+      r.rejects_points = root.attr_int64("rejected") > 0;  // the kind is not rebuilt on resumption
+      r.sessions = root.attr_string("sessions");
+    });
+  });
+  Run& r = *run;
+  const auto root = checkpoint->root();
+  h5::AtomicFile output(r.path);
+  auto file = output.create_hdf5(r.deflate);
+  std::optional<OutputLock> lock;
+  on_every_rank([&] {
+    if (ranks::root()) lock.emplace(r.path);
+  });
+  return ending_every_rank_on_failure(output, [&] {
     Ensemble e = r.model->ensemble(r.orbits);
-    read_ensemble(root, *r.model, e);
-    if (e.step < 0 || e.step >= r.plan.total)
-      throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
-                                    std::to_string(r.plan.total) + ")");
-    restore_observers(root, r.observers);
-    read_trajectories(root, r.trajectories, r.plan.total);
-    if (r.per_orbit) copy_phase(root.open_group("initial"), file.root().create_group("initial"), r.orbits);
+    const Rows rows = r.shard ? Rows{} : Rows{r.first, r.orbits, r.total};
+    reading([&] {
+      read_ensemble(root, *r.model, e, rows);
+      if (e.step < 0 || e.step >= r.plan.total)
+        throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
+                                      std::to_string(r.plan.total) + ")");
+      restore_observers(root, r.observers, rows);
+      if (ranks::root()) read_trajectories(root, r.trajectories, r.plan.total);
+      else
+        for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);  // of none of its orbits
+      if (r.per_orbit)
+        copy_phase(root.open_group("initial"), file.root().create_group("initial"),
+                   rows.count > 0 ? rows : Rows{0, r.orbits, r.orbits});
+    });
     return execute(r, e, output, file, interrupt, options, log);
-  } catch (const Error& e) {
-    if (e.code() != ExitCode::io) throw;
-    throw Error(ExitCode::io, "checkpoint '" + path + "': " + e.what());
-  }
+  });
 }
 
 }  // namespace
@@ -179,48 +293,79 @@ int run_command(const RunOptions& options, std::ostream& log) {
   if (!options.resume.empty()) return resume_command(options, interrupt, log);
   if (options.config_path.empty() && options.config_source.empty())
     throw usage_error("qmaps run needs a config file, or --resume <output>.ckpt");
-  const std::string started = utc_now();
-  Config config = options.config_path.empty()
-                      ? Config::parse(options.config_text, options.config_source)
-                      : Config::load(options.config_path);
-  for (const auto& s : options.sets) config.set(s);
-  // A shard's --out names its own file: the configuration keeps the whole run's output, which
-  // every shard of the run must share.
-  if (!options.out.empty() && options.shard.empty()) config.set("output.file=" + options.out);
+  const std::string started = ranks::from_root(utc_now());
 
-  auto model = map_of(config, chaos_options_of(config));
-  if (const auto sweep = Sweep::from_config(config, *model)) {
-    if (!options.shard.empty()) throw usage_error("--shard splits a run's orbits, not a sweep's points");
-    return run_sweep(config, *sweep, options, started, interrupt, log);
-  }
-  const auto initial_conditions = options.points
-                                      ? InitialConditions::of_points(config, options.points)
-                                      : InitialConditions::from_config(config, *model);
-  Run r = run_of(config, std::move(model), initial_conditions.orbits(), options);
-  r.kind = initial_conditions.kind();
-  r.rejects_points = initial_conditions.generator().rejects_points();
-  r.description = initial_conditions.description();
-  r.seed = initial_conditions.seed();
+  std::optional<Config> config;
+  std::optional<InitialConditions> initial_conditions;
+  std::optional<Run> run;
+  std::unique_ptr<Model> model;
+  std::optional<Sweep> sweep;
+  on_every_rank([&] {
+    config = options.config_path.empty() ? Config::parse(options.config_text, options.config_source)
+                                         : Config::load(options.config_path);
+    for (const auto& s : options.sets) config->set(s);
+    // A shard's --out names its own file: the configuration keeps the whole run's output, which
+    // every shard of the run must share.
+    if (!options.out.empty() && options.shard.empty()) config->set("output.file=" + options.out);
+    if (!options.shard.empty() && ranks::count() > 1)
+      throw usage_error("--shard splits a run into processes of their own; under mpirun the "
+                        "ranks split it");
+    model = map_of(*config, chaos_options_of(*config));
+    sweep = Sweep::from_config(*config, *model);
+    if (sweep) {
+      if (!options.shard.empty()) throw usage_error("--shard splits a run's orbits, not a sweep's points");
+      if (ranks::count() > 1)
+        throw usage_error("a sweep runs in one process: run it with qmaps, not under mpirun");
+      return;
+    }
+    initial_conditions.emplace(options.points ? InitialConditions::of_points(*config, options.points)
+                                              : InitialConditions::from_config(*config, *model));
+    run.emplace(run_of(*config, std::move(model), initial_conditions->orbits(), options));
+    config->reject_unknown();
+    if (ranks::count() > 1) h5::AtomicFile::check_writable(run->path);
+  });
+  if (sweep) return run_sweep(*config, *sweep, options, started, interrupt, log);
+  Run& r = *run;
+  r.kind = initial_conditions->kind();
+  r.rejects_points = initial_conditions->generator().rejects_points();
+  r.description = initial_conditions->description();
+  r.seed = initial_conditions->seed();
   r.command_line = options.command_line;
   r.started = started;
-  config.reject_unknown();
+  if (ranks::count() > 1) on_every_rank([&] { check_same_run(r); });
 
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);  // fails now, not after the run
-  const OutputLock lock(r.path);              // a second run to this output is refused
+  std::optional<OutputLock> lock;             // a second run to this output is refused
+  on_every_rank([&] {
+    if (ranks::root()) lock.emplace(r.path);
+  });
 
-  // The orbits start by parts; /initial is written as they do, and no full copy is kept.
-  Ensemble e = r.model->ensemble(r.orbits);
-  const auto initial = r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
-  if (initial) create_phase(*initial, r.orbits);
-  r.rejected = initial_conditions.start(
-      *r.model, e, r.start, r.plan.escape_bound,
-      [&](std::size_t first, std::span<const Phase> points) {
-        if (initial) write_phase_part(*initial, first, points);
-      },
-      orbits_per_part, r.first);
-  for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
-  return execute(r, e, output, file, interrupt, options, log);
+  return ending_every_rank_on_failure(output, [&] {
+    // The orbits start by parts; /initial is written as they do, and no full copy is kept.
+    Ensemble e = r.model->ensemble(r.orbits);
+    const auto initial =
+        r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
+    const std::size_t rows = r.shard ? r.orbits : r.total;
+    const std::size_t at = r.shard ? 0 : r.first;  // this process's first row of the file
+    if (initial) create_phase(*initial, rows);
+    std::size_t parts = 0;
+    r.rejected = initial_conditions->start(
+        *r.model, e, r.start, r.plan.escape_bound,
+        [&](std::size_t first, std::span<const Phase> points) {
+          if (initial) write_phase_part(*initial, at + first, points);
+          ++parts;
+        },
+        orbits_per_part, r.first);
+    // As many writes on every rank (core/io/h5.hpp): the ranks with fewer parts write empty ones.
+    if (initial)
+      for (std::size_t more = parts_of(r.orbits); parts < more; ++parts)
+        write_phase_part(*initial, at, {});
+    if (ranks::count() > 1 && ranks::root()) record_alone(r, *initial_conditions);
+    else
+      for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
+    return execute(r, e, output, file, interrupt, options, log);
+  });
 }
 
 }  // namespace qmaps

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "core/memory_limit.hpp"
+#include "core/ranks.hpp"
 #include "core/tangent_map.hpp"
 #include "ensembles/io/checkpoint.hpp"
 
@@ -87,6 +88,15 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
     if (r.orbits == 0)
       throw usage_error("--shard " + options.shard + ": the ensemble's " + std::to_string(orbits) +
                         " orbits leave this shard none");
+  } else if (ranks::count() > 1) {  // qmaps-mpi: rank r runs the orbits of shard r + 1
+    const Shard part{static_cast<std::size_t>(ranks::rank()) + 1,
+                     static_cast<std::size_t>(ranks::count())};
+    r.first = part.first(orbits);
+    r.orbits = part.size(orbits);
+    if (r.orbits == 0)
+      throw usage_error("the ensemble's " + std::to_string(orbits) + " orbits leave rank " +
+                        std::to_string(ranks::rank()) + " of " + std::to_string(ranks::count()) +
+                        " none: run it on fewer ranks");
   }
   check_memory(config, *r.model, r.orbits, 0);  // before the observers are made
   try {
@@ -116,6 +126,8 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.observers = observers_from_config(config, *r.model, r.orbits, r.plan.total);
   r.trajectories = trajectories_from_config(config, *r.model, orbits, r.plan.total);
   if (r.shard) keep_orbits_in(r.trajectories, r.first, r.orbits);
+  // Over several ranks, rank 0 records every trajectory (run_command.cpp); the others none.
+  if (!r.shard && !ranks::root()) keep_orbits_in(r.trajectories, 0, 0);
   double for_trajectories = 0;
   for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
   check_memory(config, *r.model, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories);
@@ -190,7 +202,8 @@ RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                                              session_command),
                    &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected,
                    r.chaos, &r.trajectories, r.shard ? r.shard->name() : "",
-                   static_cast<std::int64_t>(r.first), static_cast<std::int64_t>(r.total)};
+                   static_cast<std::int64_t>(r.first), static_cast<std::int64_t>(r.total),
+                   r.shard ? Rows{} : Rows{r.first, r.orbits, r.total}};
 }
 
 }  // namespace qmaps
