@@ -3,7 +3,8 @@ hands over to qmaps-mpi, and through qmaps-mpi itself), over an orbit count neit
 divides, with every kind of observer, trajectories across ranks and escaping orbits, equals the
 single process's run, dataset for dataset and byte for byte, and records its ranks, threads and
 hosts; so does a gzip-compressed run and one without per-orbit datasets; a run interrupted under
-2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file;
+2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file,
+as does one stopped by SIGTERM sent to mpirun;
 a bad configuration or an unwritable output given to the last rank alone, or ranks given
 different configurations, end every rank with the message and nothing written; --shard is refused
 over several ranks. Skipped where qmaps-mpi (beside the qmaps binary) or mpirun is missing."""
@@ -14,6 +15,7 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 
 import h5py
@@ -174,6 +176,35 @@ class Mpi(unittest.TestCase):
                 if then:
                     with h5py.File(d / "out.h5") as f:
                         self.assertEqual(f.attrs["ranks"], then)
+
+    def test_a_signal_to_mpirun_checkpoints_every_rank(self):
+        """SIGTERM sent to mpirun itself, as a batch system ends a job, reaches every rank: they
+        stop at the same segment's end and write one checkpoint. mpirun's own status is then
+        OpenMPI's (not 0; the ranks exit with 5). The run resumed equals the one never stopped."""
+        d = self.fresh()
+        (d / "p.toml").write_text(small_run.PRESET.read_text())
+        run = [BINARY, "run", "p.toml", "--set", "ensemble.orbits=5000", "--set",
+               "run.steps=1000000", "--quiet"]
+        r = launch([*run, "--threads", "2", "--out", "alone.h5"], d)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        command = [MPIRUN, "--oversubscribe", "-np", "2", *run, "--threads", "1", "--out", "out.h5"]
+        with subprocess.Popen(list(map(str, command)), cwd=d, env={**os.environ, **MPI_ENV},
+                              text=True, stderr=subprocess.PIPE, start_new_session=True) as p:
+            # Once the ranks have made the output's temporary, they answer a signal with a
+            # checkpoint (before, during MPI's start-up, it would only end them).
+            for _ in range(600):
+                if list(d.glob("out.h5.tmp-*")) or p.poll() is not None:
+                    break
+                time.sleep(0.1)
+            time.sleep(0.5)
+            p.send_signal(signal.SIGTERM)
+            _, err = p.communicate(timeout=TIMEOUT)
+        self.assertNotEqual(p.returncode, 0, err)
+        self.assertIn("checkpoint written to out.h5.ckpt", err)
+        self.assert_nothing_written(d, "out.h5")
+        r = mpirun(d, (2, [BINARY, "run", "--resume", "out.h5.ckpt", "--threads", "1", "--quiet"]))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assert_same_datasets(d / "out.h5", d / "alone.h5")
 
     def test_a_bad_configuration_on_the_last_rank_ends_every_rank(self):
         bad = {"speed": ("[run]\n", "[run]\nspeed = 3\n"),  # an unknown key

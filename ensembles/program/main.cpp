@@ -55,13 +55,13 @@ void hand_over_to_mpi(char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit makes a write fail (an io error, exit 3) instead of killing the process.
+  std::signal(SIGXFSZ, SIG_IGN);
 #ifdef QMAPS_MPI
   const MpiSession mpi(argc, argv);
 #else
   hand_over_to_mpi(argv);
 #endif
-  // A file-size limit makes a write fail (an io error, exit 3) instead of killing the process.
-  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"qmaps: ensembles of orbits of integrable maps of a quartic-potential Hamiltonian"};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("qmaps ") + qmaps::build::version + " (" +
