@@ -14,6 +14,7 @@ std::int64_t max(std::int64_t value) { return value; }
 double min(double value) { return value; }
 double max(double value) { return value; }
 std::string from_root(const std::string& value) { return value; }
+void from_root(std::span<std::byte>) {}
 std::vector<double> gathered(std::span<const double> values) { return {values.begin(), values.end()}; }
 std::vector<std::string> gathered(const std::string& value) { return {value}; }
 Failure first_failure(const Failure& mine) { return mine; }

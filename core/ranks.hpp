@@ -3,6 +3,7 @@
 // or the ranks of MPI_COMM_WORLD (qmaps-mpi, docs/scaling.md). Rank r of n runs the orbit range
 // of shard r + 1 of n. Every call but rank(), count() and root() is collective: every rank makes
 // it, in the same order. Alone, each is the identity.
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -24,6 +25,8 @@ double min(double value);
 double max(double value);
 // Rank 0's value, on every rank.
 std::string from_root(const std::string& value);
+// Rank 0's bytes, into `bytes` on every rank (as many on each).
+void from_root(std::span<std::byte> bytes);
 // Every rank's values, one after another in rank order, on every rank.
 std::vector<double> gathered(std::span<const double> values);
 std::vector<std::string> gathered(const std::string& value);

@@ -58,6 +58,10 @@ double max(double value) { return reduced(value, MPI_DOUBLE, MPI_MAX); }
 
 std::string from_root(const std::string& value) { return broadcast(value, 0); }
 
+void from_root(std::span<std::byte> bytes) {
+  MPI_Bcast(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD);
+}
+
 std::vector<double> gathered(std::span<const double> values) {
   const int n = count();
   const int mine = static_cast<int>(values.size());

@@ -69,19 +69,10 @@ Handle transfer(bool shared) {
   return plist;
 }
 
-// Rank 0's value of a trivially copyable T (or of a vector of them), on every rank: what a
-// shared file records is rank 0's.
+// Rank 0's values, on every rank (as many on each): what a shared file records is rank 0's.
 template <class T>
-std::vector<T> rank0s(std::vector<T> values) {
-  std::string bytes(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
-  bytes = ranks::from_root(bytes);
-  values.resize(bytes.size() / sizeof(T));
-  std::memcpy(values.data(), bytes.data(), bytes.size());
-  return values;
-}
-template <class T>
-T rank0s(T value) {
-  return rank0s(std::vector<T>{value})[0];
+void rank0s(std::span<T> values) {
+  ranks::from_root(std::as_writable_bytes(values));
 }
 
 // Selects nothing of `space`: a rank's part of a collective transfer where it has none.
@@ -93,7 +84,7 @@ void select_none(hid_t space, const std::string& what) {
 Handle create_nd(hid_t parent, const std::string& what, const std::string& name, hid_t type,
                  std::span<const hsize_t> dims_given, int deflate, bool shared) {
   std::vector<hsize_t> dims(dims_given.begin(), dims_given.end());
-  if (shared) dims = rank0s(dims);
+  if (shared) rank0s(std::span(dims));
   Handle space(checked(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
                        "dataspace"),
                H5Sclose);
@@ -331,12 +322,12 @@ void Group::attr(const std::string& name, const std::string& given) const {
   write_attr(id(), name, type.id(), space.id(), value.empty() ? "" : value.data());
 }
 void Group::attr(const std::string& name, double value) const {
-  if (shared_) value = rank0s(value);
+  if (shared_) rank0s(std::span(&value, 1));
   Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
   write_attr(id(), name, H5T_NATIVE_DOUBLE, space.id(), &value);
 }
 void Group::attr(const std::string& name, std::int64_t value) const {
-  if (shared_) value = rank0s(value);
+  if (shared_) rank0s(std::span(&value, 1));
   Handle space(checked(H5Screate(H5S_SCALAR), "scalar space"), H5Sclose);
   write_attr(id(), name, H5T_NATIVE_INT64, space.id(), &value);
 }
