@@ -44,8 +44,10 @@ std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
     const py::array_t<double, py::array::c_style | py::array::forcecast>& points) {
   if (points.ndim() != 2 || points.shape(1) != 4) {
     std::string shape;
-    for (py::ssize_t k = 0; k < points.ndim(); ++k)
-      shape += (k ? ", " : "") + std::to_string(points.shape(k));
+    for (py::ssize_t k = 0; k < points.ndim(); ++k) {
+      if (k > 0) shape += ", ";
+      shape += std::to_string(points.shape(k));
+    }
     throw qmaps::usage_error("initial conditions: expected shape (orbits, 4), got (" + shape + ")");
   }
   auto out = std::make_shared<std::vector<qmaps::Phase>>(static_cast<std::size_t>(points.shape(0)));
