@@ -16,17 +16,18 @@ Ensemble::Ensemble(std::size_t n, std::size_t state_size, std::size_t invariants
   }
 }
 
-void Ensemble::fill_padding() {
-  const std::size_t last = orbits - 1;
-  for (std::size_t i = orbits; i < padded; ++i) {
-    for (auto& column : state) column[i] = column[last];
-    escape_step[i] = escape_step[last];
-    escape_reason[i] = escape_reason[last];
-    for (std::size_t k = 0; k < invariant_initial.size(); ++k) {
-      invariant_initial[k][i] = invariant_initial[k][last];
-      invariant_max_drift[k][i] = invariant_max_drift[k][last];
-    }
+void Ensemble::set_orbit(std::size_t i, const Ensemble& from, std::size_t j) {
+  for (std::size_t k = 0; k < state.size(); ++k) state[k][i] = from.state[k][j];
+  escape_step[i] = from.escape_step[j];
+  escape_reason[i] = from.escape_reason[j];
+  for (std::size_t k = 0; k < invariant_initial.size(); ++k) {
+    invariant_initial[k][i] = from.invariant_initial[k][j];
+    invariant_max_drift[k][i] = from.invariant_max_drift[k][j];
   }
+}
+
+void Ensemble::fill_padding() {
+  for (std::size_t i = orbits; i < padded; ++i) set_orbit(i, *this, orbits - 1);
 }
 
 std::size_t Ensemble::escaped() const {

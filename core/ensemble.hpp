@@ -27,6 +27,8 @@ struct Ensemble {
   std::vector<AlignedArray<double>> invariant_max_drift;  // [invariant][orbit]
   long long step = 0;                              // the step the state is at
 
+  // Orbit j of `from` (its state, escape record and invariant tracking) as orbit i.
+  void set_orbit(std::size_t i, const Ensemble& from, std::size_t j);
   // Copies the last orbit into the padding lanes, so that every lane holds a valid state.
   void fill_padding();
   std::size_t escaped() const;

@@ -62,25 +62,43 @@ void from_root(std::span<std::byte> bytes) {
   MPI_Bcast(bytes.data(), static_cast<int>(bytes.size()), MPI_BYTE, 0, MPI_COMM_WORLD);
 }
 
-std::vector<double> gathered(std::span<const double> values) {
-  const int n = count();
-  const int mine = static_cast<int>(values.size());
-  std::vector<int> sizes(static_cast<std::size_t>(n)), offsets(static_cast<std::size_t>(n));
-  MPI_Allgather(&mine, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+namespace {
+
+// Every rank's `count` values of `type` from `values`, one after another in rank order, on every
+// rank; sizes[r] is rank r's count.
+template <class T>
+std::vector<T> all_of(const T* values, int count, MPI_Datatype type, std::vector<int>& sizes) {
+  const int n = ranks::count();
+  sizes.assign(static_cast<std::size_t>(n), 0);
+  MPI_Allgather(&count, 1, MPI_INT, sizes.data(), 1, MPI_INT, MPI_COMM_WORLD);
+  std::vector<int> offsets(static_cast<std::size_t>(n));
   int total = 0;
-  for (int r = 0; r < n; ++r) {
-    offsets[static_cast<std::size_t>(r)] = total;
-    total += sizes[static_cast<std::size_t>(r)];
+  for (std::size_t r = 0; r < sizes.size(); ++r) {
+    offsets[r] = total;
+    total += sizes[r];
   }
-  std::vector<double> out(static_cast<std::size_t>(total));
-  MPI_Allgatherv(values.data(), mine, MPI_DOUBLE, out.data(), sizes.data(), offsets.data(),
-                 MPI_DOUBLE, MPI_COMM_WORLD);
+  std::vector<T> out(static_cast<std::size_t>(total));
+  MPI_Allgatherv(values, count, type, out.data(), sizes.data(), offsets.data(), type,
+                 MPI_COMM_WORLD);
   return out;
 }
 
+}  // namespace
+
+std::vector<double> gathered(std::span<const double> values) {
+  std::vector<int> sizes;
+  return all_of(values.data(), static_cast<int>(values.size()), MPI_DOUBLE, sizes);
+}
+
 std::vector<std::string> gathered(const std::string& value) {
+  std::vector<int> sizes;
+  const auto chars = all_of(value.data(), static_cast<int>(value.size()), MPI_CHAR, sizes);
   std::vector<std::string> out;
-  for (int r = 0; r < count(); ++r) out.push_back(broadcast(value, r));
+  std::size_t at = 0;
+  for (const int size : sizes) {
+    out.emplace_back(chars.data() + at, static_cast<std::size_t>(size));
+    at += static_cast<std::size_t>(size);
+  }
   return out;
 }
 

@@ -41,16 +41,7 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
   if (t.orbits.empty()) return;  // a shard's trajectory of orbits all in other shards
   // Copies of the orbits, advanced together on the scalar reference path.
   Ensemble copy = model.ensemble(t.orbits.size());
-  for (std::size_t j = 0; j < t.orbits.size(); ++j) {
-    const std::size_t i = t.orbits[j];
-    for (std::size_t k = 0; k < copy.state.size(); ++k) copy.state[k][j] = e.state[k][i];
-    copy.escape_step[j] = e.escape_step[i];
-    copy.escape_reason[j] = e.escape_reason[i];
-    for (std::size_t k = 0; k < copy.invariant_initial.size(); ++k) {
-      copy.invariant_initial[k][j] = e.invariant_initial[k][i];
-      copy.invariant_max_drift[k][j] = e.invariant_max_drift[k][i];
-    }
-  }
+  for (std::size_t j = 0; j < t.orbits.size(); ++j) copy.set_orbit(j, e, t.orbits[j]);
   copy.fill_padding();
   copy.step = e.step;
   // Rows by step first; reordered orbit by orbit at the end.

@@ -192,13 +192,7 @@ void record_alone(Run& r, const InitialConditions& initial_conditions) {
       Ensemble one = r.model->ensemble(1);
       initial_conditions.start(*r.model, one, r.start, r.plan.escape_bound,
                                [](std::size_t, std::span<const Phase>) {}, 1, t.orbits[j]);
-      for (std::size_t k = 0; k < one.state.size(); ++k) few.state[k][j] = one.state[k][0];
-      few.escape_step[j] = one.escape_step[0];
-      few.escape_reason[j] = one.escape_reason[0];
-      for (std::size_t k = 0; k < one.invariant_initial.size(); ++k) {
-        few.invariant_initial[k][j] = one.invariant_initial[k][0];
-        few.invariant_max_drift[k][j] = one.invariant_max_drift[k][0];
-      }
+      few.set_orbit(j, one, 0);
     }
     few.fill_padding();
     const std::vector<std::size_t> orbits = t.orbits;
