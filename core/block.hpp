@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include "core/ensemble.hpp"
@@ -163,62 +164,77 @@ template <class Map, class V, int K, bool keep_before>
 #pragma GCC unroll 2
     for (long long j = 0; j < steps; ++j)
       for (int k = 0; k < K; ++k) advance(k);
-  } else if (watch.count == 1) {
-    // One section, the usual case: its plane, value and direction and the chains' live lanes in
-    // locals, so that nothing is reloaded from memory between steps.
+  } else if (watch.count == 1 && is_position(watch.sections[0]->plane)) {
+    // One section on a position plane, the usual case: its plane, value and direction and the
+    // chains' live lanes in locals, so that nothing is reloaded from memory between steps. The
+    // plane coordinate is picked by a select, not an index, and the direction is a constant of
+    // the loop (crosses() at a known direction).
     const Section& section = *watch.sections[0];
-    const Coordinate plane = section.plane;
+    const ops::mask_t<V> second = V(section.plane == Coordinate::q2 ? 1.0 : 0.0) != V(0.0);
     const V value(section.value);
-    const int direction = section.direction;
-    V previous[K];
-    ops::mask_t<V> live[K];
-    for (int k = 0; k < K; ++k) {
-      previous[k] = Watch<Map, V>::plane(c, w[k], plane);
-      live[k] = alive[k];
-    }
-    if constexpr (!keep_before) {
-      // One branch per step for all the chains: a crossing is rare for each lane but common
-      // among all, and a branch per chain mispredicts often enough to undo the chains' overlap
-      // (a section alone, Suris on AVX-512: +10-20% with 2 threads; on AVX2 within noise).
-      // Every chain's record is written when any crossed; only those that crossed are kept.
-      for (long long j = 0; j < steps; ++j) {
-        ops::mask_t<V> crossing[K];
-#pragma GCC unroll 8
-        for (int k = 0; k < K; ++k) {
-          advance(k);
-          const V now = Watch<Map, V>::plane(c, w[k], plane);
-          crossing[k] = crosses(value, direction, previous[k], now) & live[k];
-          previous[k] = now;
-        }
-        ops::mask_t<V> any = crossing[0];
-        for (int k = 1; k < K; ++k) any = any | crossing[k];
-        if (ops::any(any)) {
+    const auto plane = [&](const typename Map::template State<V>& x) {
+      const auto q = Map::position(c, x);
+      return ops::select(second, q[1], q[0]);
+    };
+    const auto watch_one = [&](auto direction) {
+      const auto crossing_of = [&](V a, V b) { return crosses(value, direction(), a, b); };
+      V previous[K];
+      ops::mask_t<V> live[K];
+      for (int k = 0; k < K; ++k) {
+        previous[k] = plane(w[k]);
+        live[k] = alive[k];
+      }
+      if constexpr (!keep_before) {
+        // One branch per step for all the chains: a crossing is rare for each lane but common
+        // among all, and a branch per chain mispredicts often enough to undo the chains' overlap
+        // (a section alone, Suris on AVX-512: +10-20% with 2 threads; on AVX2 within noise).
+        // Every chain's record is written when any crossed; only those that crossed are kept.
+        for (long long j = 0; j < steps; ++j) {
+          ops::mask_t<V> crossing[K];
 #pragma GCC unroll 8
           for (int k = 0; k < K; ++k) {
-            auto& x = watch.crossings[n];
-            x.after = w[k];
-            x.lanes = crossing[k];
-            x.step = first + j + 1;
-            x.chain = k;
-            x.section = 0;
-            n += ops::any(crossing[k]) ? 1 : 0;
+            advance(k);
+            const V now = plane(w[k]);
+            crossing[k] = crossing_of(previous[k], now) & live[k];
+            previous[k] = now;
+          }
+          ops::mask_t<V> any = crossing[0];
+          for (int k = 1; k < K; ++k) any = any | crossing[k];
+          if (ops::any(any)) {
+#pragma GCC unroll 8
+            for (int k = 0; k < K; ++k) {
+              auto& x = watch.crossings[n];
+              x.after = w[k];
+              x.lanes = crossing[k];
+              x.step = first + j + 1;
+              x.chain = k;
+              x.section = 0;
+              n += ops::any(crossing[k]) ? 1 : 0;
+            }
           }
         }
-      }
-    } else {
-      for (long long j = 0; j < steps; ++j)
+      } else {
+        for (long long j = 0; j < steps; ++j)
 #pragma GCC unroll 8
-        for (int k = 0; k < K; ++k) {
-          const typename Map::template State<V> before = w[k];
-          advance(k);
-          const V now = Watch<Map, V>::plane(c, w[k], plane);
-          const ops::mask_t<V> crossing = crosses(value, direction, previous[k], now) & live[k];
-          if (ops::any(crossing)) [[unlikely]]
-            keep(crossing, before, k, j, 0);
-          previous[k] = now;
-        }
-    }
+          for (int k = 0; k < K; ++k) {
+            const typename Map::template State<V> before = w[k];
+            advance(k);
+            const V now = plane(w[k]);
+            const ops::mask_t<V> crossing = crossing_of(previous[k], now) & live[k];
+            if (ops::any(crossing)) [[unlikely]]
+              keep(crossing, before, k, j, 0);
+            previous[k] = now;
+          }
+      }
+    };
+    if (section.direction > 0)
+      watch_one(std::integral_constant<int, 1>{});
+    else if (section.direction < 0)
+      watch_one(std::integral_constant<int, -1>{});
+    else
+      watch_one(std::integral_constant<int, 0>{});
   } else {
+    // Several sections (or one on a momentum or time plane): each plane from node_values' index.
     V previous[K][max_watched];
     for (int k = 0; k < K; ++k)
       for (std::size_t i = 0; i < watch.count; ++i)
@@ -320,12 +336,18 @@ template <class Map, class V, int K>
   const bool densities = observers && !observers->densities.empty();
   const bool density_momentum = densities && observers->densities_need_momentum();
   const bool section_momentum = sections && observers->sections_need_momentum();
-  std::array<V, 5> before[K];
-  for (int k = 0; k < K; ++k) {
+  for (int k = 0; k < K; ++k)
     if (densities && plan.first == 0)
       sample_densities<Map>(c, s[k], alive[k], observers->densities, density_momentum);
-    if (sections) before[k] = node_values<Map>(c, s[k], section_momentum);
-  }
+  // The chains' nodes before the next step, for the sections checked step by step: computed only
+  // when such a step comes (a watched chunk needs none, and with p each is a reversed step).
+  std::array<V, 5> before[K];
+  bool before_stale = sections;
+  const auto refresh_before = [&] {
+    if (!before_stale) return;
+    for (int k = 0; k < K; ++k) before[k] = node_values<Map>(c, s[k], section_momentum);
+    before_stale = false;
+  };
   // Up to max_watched sections are watched inside the chunks; more are checked step by step.
   // Each chunk's crossings go to one buffer per thread, kept across blocks and sized for the most
   // a chunk can have: it grows only on a thread's first blocks.
@@ -406,6 +428,7 @@ template <class Map, class V, int K>
     const bool sampled = sampling && (at_multiple || next == plan.total);
 
     if (next == n + 1) {  // a single step is checked as it goes, and observed while in registers
+      refresh_before();
 #pragma GCC unroll 8
       for (int k = 0; k < K; ++k) {
         checked_step(k, next);
@@ -423,6 +446,7 @@ template <class Map, class V, int K>
         detail::step_any_chunk<Map, V, K>(c, s, n, next - n, bound2, watch, alive, crossed);
     if (suspect) {  // replay the chunk step by step, its crossings checked as they come
       for (int k = 0; k < K; ++k) s[k] = start[k];
+      refresh_before();
       for (long long j = n + 1; j <= next; ++j)
         for (int k = 0; k < K; ++k) {
           checked_step(k, j);
@@ -430,7 +454,7 @@ template <class Map, class V, int K>
         }
     } else if (watch.count > 0) {
       record_crossings();
-      for (int k = 0; k < K; ++k) before[k] = node_values<Map>(c, s[k], section_momentum);
+      before_stale = true;
     }
     n = next;
     if (sampled)
