@@ -6,6 +6,9 @@
 // step by step, freezing each lane exactly where the reference path stops it. So every lane
 // computes exactly what the reference path computes for its orbit. A map whose step solves an
 // equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
+// The samples (invariants, densities) are taken inside the chunk at the multiples of the stride,
+// each only where the test holds up to it; a chunk that trips there stops, and its replay takes
+// only the samples not yet taken.
 //
 // The scalar reference path is the same code at V = double, one orbit per block, one checked step
 // at a time (advance_range in core/runner.hpp): the reference and every ISA share one implementation of
@@ -123,23 +126,45 @@ struct Watch {
   }
 };
 
+// The samples a chunk takes while its chains are in registers: after its steps at, at + stride,
+// ... (counted from 1), each only where the escape test holds up to it, so that a sample taken is
+// one the reference takes. `through`: the chunk's last step sampled.
+struct ChunkSamples {
+  long long at, stride, through = 0;
+};
+
 // Steps the K chains of s `steps` times from step `first`, unchecked, and tells whether any lane
 // may have escaped or faulted on the way: one sum of the escape measures, conservative (it
 // exceeds the bound or is not finite if any term does; idle lanes add 0), and one sum of the fault
 // codes, serve all the chains. The chains are stepped in a local copy whose address never
 // escapes, so that the compiler can keep it in registers. The watched sections' crossings by the
-// `alive` lanes go to watch.crossings, in step order; `crossed` tells how many.
-template <class Map, class V, int K, bool keep_before>
+// `alive` lanes go to watch.crossings, in step order; `crossed` tells how many. At the sampling
+// steps, sample(w) observes the chains; where the test trips there, the chunk stops, suspect.
+template <class Map, class V, int K, bool keep_before, class Sample>
 [[gnu::always_inline]] inline bool step_chunk(const typename Map::Coeffs& c,
                                                 typename Map::template State<V> (&s)[K],
                                                 long long first, long long steps, V bound2,
                                                 const Watch<Map, V>& watch,
                                                 const ops::mask_t<V> (&alive)[K],
-                                                std::size_t& crossed) {
+                                                std::size_t& crossed, ChunkSamples& samples,
+                                                Sample& sample) {
   typename Map::template State<V> w[K];
   std::size_t n = 0;  // crossings so far
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
+  bool clean = true;  // false: the test tripped at a sampling step
+  // After step j: whether the samples due there were taken (false: the test trips there).
+  const auto samples_taken = [&](long long j) {
+    if (j + 1 != samples.at) return true;
+    V reach = acc;
+    for (int k = 0; k < K; ++k) reach = reach + Map::escape_measure(w[k]);
+    if (ops::any(ops::negate(reach <= bound2) | (faults != V(0.0)))) [[unlikely]]
+      return clean = false;
+    sample(w);
+    samples.through = j + 1;
+    samples.at += samples.stride;
+    return true;
+  };
   const auto advance = [&](int k) {  // one step of chain k, its escape measure summed before it
     acc = acc + Map::escape_measure(w[k]);
     if constexpr (Map::reports_faults)
@@ -162,8 +187,10 @@ template <class Map, class V, int K, bool keep_before>
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
 #pragma GCC unroll 2
-    for (long long j = 0; j < steps; ++j)
+    for (long long j = 0; j < steps; ++j) {
       for (int k = 0; k < K; ++k) advance(k);
+      if (!samples_taken(j)) break;
+    }
   } else if (watch.count == 1 && is_position(watch.sections[0]->plane)) {
     // One section on a position plane, the usual case: its plane, value and direction and the
     // chains' live lanes in locals, so that nothing is reloaded from memory between steps. The
@@ -212,9 +239,10 @@ template <class Map, class V, int K, bool keep_before>
               n += ops::any(crossing[k]) ? 1 : 0;
             }
           }
+          if (!samples_taken(j)) break;
         }
       } else {
-        for (long long j = 0; j < steps; ++j)
+        for (long long j = 0; j < steps; ++j) {
 #pragma GCC unroll 8
           for (int k = 0; k < K; ++k) {
             const typename Map::template State<V> before = w[k];
@@ -225,6 +253,8 @@ template <class Map, class V, int K, bool keep_before>
               keep(crossing, before, k, j, 0);
             previous[k] = now;
           }
+          if (!samples_taken(j)) break;
+        }
       }
     };
     if (section.direction > 0)
@@ -239,7 +269,7 @@ template <class Map, class V, int K, bool keep_before>
     for (int k = 0; k < K; ++k)
       for (std::size_t i = 0; i < watch.count; ++i)
         previous[k][i] = Watch<Map, V>::plane(c, w[k], watch.sections[i]->plane);
-    for (long long j = 0; j < steps; ++j)
+    for (long long j = 0; j < steps; ++j) {
 #pragma GCC unroll 8  // the chains in registers, as in the unwatched loop
       for (int k = 0; k < K; ++k) {
         typename Map::template State<V> before;
@@ -253,44 +283,54 @@ template <class Map, class V, int K, bool keep_before>
           previous[k][i] = now;
         }
       }
+      if (!samples_taken(j)) break;
+    }
   }
+  crossed = n;
+  if (!clean) return true;
   for (int k = 0; k < K; ++k) {
     s[k] = w[k];
     acc = acc + Map::escape_measure(w[k]);
   }
-  crossed = n;
   return ops::any(ops::negate(acc <= bound2) | (faults != V(0.0)));
 }
 
 // The same, out of line, for blocks of 8 chains: their states alone fill the 32 registers, and a
 // loop allocated apart from advance_block's many live values spills less (measured: 5.1e9 against
 // 4.4e9 particle-steps/s for Suris on AVX-512). Blocks of up to 4 chains fit in registers inline.
-template <class Map, class V, int K, bool keep_before>
+template <class Map, class V, int K, bool keep_before, class Sample>
 [[gnu::noinline, gnu::flatten]] bool step_chunk_apart(const typename Map::Coeffs& c,
                                                       typename Map::template State<V> (&s)[K],
                                                       long long first, long long steps, V bound2,
                                                       const Watch<Map, V>& watch,
                                                       const ops::mask_t<V> (&alive)[K],
-                                                      std::size_t& crossed) {
-  return step_chunk<Map, V, K, keep_before>(c, s, first, steps, bound2, watch, alive, crossed);
+                                                      std::size_t& crossed, ChunkSamples& samples,
+                                                      Sample& sample) {
+  return step_chunk<Map, V, K, keep_before>(c, s, first, steps, bound2, watch, alive, crossed,
+                                            samples, sample);
 }
 
 // The chunk, with the states before crossings kept only where a watched section needs them.
-template <class Map, class V, int K>
+template <class Map, class V, int K, class Sample>
 [[gnu::always_inline]] inline bool step_any_chunk(const typename Map::Coeffs& c,
                                                   typename Map::template State<V> (&s)[K],
                                                   long long first, long long steps, V bound2,
                                                   const Watch<Map, V>& watch,
                                                   const ops::mask_t<V> (&alive)[K],
-                                                  std::size_t& crossed) {
+                                                  std::size_t& crossed, ChunkSamples& samples,
+                                                  Sample& sample) {
   if constexpr (K == 8) {
     if (watch.keep_before)
-      return step_chunk_apart<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
-    return step_chunk_apart<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
+      return step_chunk_apart<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed,
+                                               samples, sample);
+    return step_chunk_apart<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed,
+                                              samples, sample);
   } else {
     if (watch.keep_before)
-      return step_chunk<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed);
-    return step_chunk<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed);
+      return step_chunk<Map, V, K, true>(c, s, first, steps, bound2, watch, alive, crossed,
+                                         samples, sample);
+    return step_chunk<Map, V, K, false>(c, s, first, steps, bound2, watch, alive, crossed,
+                                        samples, sample);
   }
 }
 
@@ -364,7 +404,7 @@ template <class Map, class V, int K>
     watch.crossings = crossings.data();
   }
   const bool sampling = plan.track_invariants || densities;
-  // The next multiple of the stride (plan.samples_at without a division per chunk).
+  // The next multiple of the stride (plan.samples_at without a division per step).
   long long next_multiple = (plan.first / plan.stride + 1) * plan.stride;
 
   // One step of chain k to node j, checked: the lanes that escape or fault there are recorded and
@@ -392,10 +432,13 @@ template <class Map, class V, int K>
       check_sections<Map>(c, s[k], alive[k], observers->sections, section_momentum, first + k * W,
                           n, before[k]);
   };
-  // The samples of chain k at its node.
-  const auto sample = [&](int k) {
-    if (plan.track_invariants) track[k].sample(c, s[k], alive[k]);
-    if (densities) sample_densities<Map>(c, s[k], alive[k], observers->densities, density_momentum);
+  // The samples of chain k at its node x.
+  const auto sample = [&](int k, const State& x) {
+    if (plan.track_invariants) track[k].sample(c, x, alive[k]);
+    if (densities) sample_densities<Map>(c, x, alive[k], observers->densities, density_momentum);
+  };
+  const auto sample_chains = [&](const State (&x)[K]) {
+    for (int k = 0; k < K; ++k) sample(k, x[k]);
   };
   // The crossings a clean chunk kept, recorded as check_sections records them: first every
   // crossing's points and slots in V, then the lanes one by one (two passes, so that the lanes'
@@ -420,45 +463,51 @@ template <class Map, class V, int K>
 
   for (long long n = plan.first; n < plan.last;) {
     long long next = std::min(plan.last, n + detail::max_chunk);
-    if (sampling) next = std::min(next, next_multiple);
     if (stepping == Stepping::single_steps || (sections && watch.count == 0))
       next = n + 1;  // the reference, or many sections: checked step by step
-    const bool at_multiple = next == next_multiple;
-    if (at_multiple) next_multiple += plan.stride;
-    const bool sampled = sampling && (at_multiple || next == plan.total);
 
     if (next == n + 1) {  // a single step is checked as it goes, and observed while in registers
+      const bool at_multiple = next == next_multiple;
+      if (at_multiple) next_multiple += plan.stride;
+      const bool sampled = sampling && (at_multiple || next == plan.total);
       refresh_before();
 #pragma GCC unroll 8
       for (int k = 0; k < K; ++k) {
         checked_step(k, next);
         check(k, next);
-        if (sampled) sample(k);
+        if (sampled) sample(k, s[k]);
       }
       n = next;
       if (!any_alive()) break;
       continue;
     }
 
+    // The chunk samples the multiples of the stride in it; the run's last step, if no multiple,
+    // is sampled after it.
+    detail::ChunkSamples samples{sampling ? next_multiple - n : next - n + 1, plan.stride};
     State start[K];
     for (int k = 0; k < K; ++k) start[k] = s[k];
-    const bool suspect =
-        detail::step_any_chunk<Map, V, K>(c, s, n, next - n, bound2, watch, alive, crossed);
-    if (suspect) {  // replay the chunk step by step, its crossings checked as they come
+    const bool suspect = detail::step_any_chunk<Map, V, K>(c, s, n, next - n, bound2, watch,
+                                                           alive, crossed, samples, sample_chains);
+    if (suspect) {  // replay the chunk step by step, its crossings and samples checked as they come
       for (int k = 0; k < K; ++k) s[k] = start[k];
       refresh_before();
-      for (long long j = n + 1; j <= next; ++j)
+      for (long long j = n + 1; j <= next; ++j) {
         for (int k = 0; k < K; ++k) {
           checked_step(k, j);
           check(k, j);
         }
-    } else if (watch.count > 0) {
-      record_crossings();
-      before_stale = true;
+        if (sampling && j > n + samples.through && plan.samples_at(j)) sample_chains(s);
+      }
+    } else {
+      if (watch.count > 0) {
+        record_crossings();
+        before_stale = true;
+      }
+      if (sampling && next == plan.total && next % plan.stride != 0) sample_chains(s);
     }
     n = next;
-    if (sampled)
-      for (int k = 0; k < K; ++k) sample(k);
+    next_multiple = (n / plan.stride + 1) * plan.stride;
     if (suspect && !any_alive()) break;
   }
   for (int k = 0; k < K; ++k) {

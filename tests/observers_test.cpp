@@ -207,8 +207,9 @@ TEST(Observers, SeveralSectionsAndDensitiesAtOnceAreBitIdenticalOnEveryPath) {
   expect_every_path_equal(*model, points, plan_of(300, 300), five, "five");
 }
 
-// Without sections the runner steps in chunks up to the next sample: one step at stride 1,
-// several (replayed on an escape) at stride 7; both must give the reference's bytes.
+// Without sections the runner samples inside its chunks, every step at stride 1 and every 7th at
+// stride 7; a chunk whose escape test trips is replayed step by step, taking only the samples it
+// had not taken. Both must give the reference's bytes.
 TEST(Observers, DensitiesAndDriftWithoutSectionsAreBitIdenticalAtStrideOneAndSeven) {
   const auto same_column = [](const auto& x, const auto& y, std::size_t n) {
     return std::memcmp(x.data(), y.data(), n * sizeof(x[0])) == 0;
