@@ -404,7 +404,7 @@ template <class Map, class V, int K>
     watch.crossings = crossings.data();
   }
   const bool sampling = plan.track_invariants || densities;
-  // The next multiple of the stride (plan.samples_at without a division per step).
+  // The next multiple of the stride (plan.samples_at without a division per single step).
   long long next_multiple = (plan.first / plan.stride + 1) * plan.stride;
 
   // One step of chain k to node j, checked: the lanes that escape or fault there are recorded and
