@@ -64,7 +64,7 @@ void write_checkpoint(const std::string& path, RunRecord record, const h5::Group
   write_run(root, record);
   root.attr("checkpoint_version", checkpoint_version);
   const std::size_t n = record.ensemble.orbits;
-  const Rows rows = record.rows.count > 0 ? record.rows : Rows{0, n, n};
+  const Rows rows = record.rows.or_all(n);
   if (initial) copy_phase(*initial, root.create_group("initial"), rows);
   if (record.observers) write_kept(root, *record.observers, rows);
   file.close();
@@ -75,7 +75,7 @@ void write_kept(const h5::Group& root, const Observers& observers, Rows rows) {
   for (const auto& s : observers.sections) {
     const auto kept = s.points->kept();
     write_rows<std::int64_t>(root.open_group("sections").open_group(s.name), "kept", kept,
-                             rows.count > 0 ? rows : Rows{0, kept.size(), kept.size()});
+                             rows.or_all(kept.size()));
   }
 }
 
@@ -165,7 +165,7 @@ void restore_observers(const h5::Group& root, Observers& o, Rows rows) {
     // The points kept per orbit, each within the orbit's slots, say how many points there are:
     // this process's follow those of the orbits before its rows.
     SectionPoints& kept = *s.points;
-    const Rows orbits = rows.count > 0 ? rows : Rows{0, kept.kept().size(), kept.kept().size()};
+    const Rows orbits = rows.or_all(kept.kept().size());
     const auto counts = read_column<std::int64_t>(g, "kept", orbits.first, orbits.count, orbits.total);
     std::size_t points = 0;
     for (const std::int64_t k : counts) {

@@ -335,7 +335,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const Model& model = run.model;
   const Ensemble& e = run.ensemble;
   const std::size_t n = e.orbits;
-  const Rows rows = run.rows.count > 0 ? run.rows : Rows{0, n, n};
+  const Rows rows = run.rows.or_all(n);
   // The per-orbit values computed for the file (final phase points, invariants, drifts) are
   // computed by the run's threads, each orbit's alone: the same values whatever their number.
   const int threads = std::max(run.execution.threads, 1);

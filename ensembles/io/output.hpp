@@ -48,6 +48,9 @@ double quantile(std::vector<double> values, double f);
 // process writes all of them (first 0, count = total).
 struct Rows {
   std::size_t first = 0, count = 0, total = 0;
+
+  // These rows, or all n when none are given (count 0: a process alone).
+  Rows or_all(std::size_t n) const { return count > 0 ? *this : Rows{0, n, n}; }
 };
 
 // The histogram's counts, underflow and overflow added over every rank (core/ranks.hpp).

@@ -273,7 +273,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
         for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);  // of none of its orbits
       if (r.per_orbit)
         copy_phase(root.open_group("initial"), file.root().create_group("initial"),
-                   rows.count > 0 ? rows : Rows{0, r.orbits, r.orbits});
+                   rows.or_all(r.orbits));
     });
     return execute(r, e, output, file, interrupt, options, log);
   });
