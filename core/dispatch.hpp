@@ -4,6 +4,7 @@
 // every map of kernels/maps.hpp. Derived from the ISA list (core/isa_list.hpp).
 #include <array>
 #include <cstddef>
+#include <span>
 #include <string>
 
 #include <xsimd/xsimd.hpp>
@@ -37,6 +38,13 @@ template <class Map, class Arch>
 void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
                     std::size_t count, int chains, const RunPlan& plan, Observers* observers);
 
+// The invariants of orbits [first, first + count) into out[k][0, count), for each invariant k of
+// the map: the values of Map::invariants at double, lanes at a time. Defined in
+// core/simd_blocks.hpp.
+template <class Map, class Arch>
+void invariants_of_orbits(const typename Map::Coeffs& c, const Ensemble& e, std::size_t first,
+                          std::size_t count, std::span<double* const> out);
+
 // a·b + c written as two operations, in a batch and in a scalar, in the ISA's translation unit:
 // both are 0 for the probe's inputs when contraction is off there (core/fp_probe.hpp).
 template <class Map, class Arch>
@@ -46,6 +54,8 @@ template <class Map>
 struct SimdPath {
   void (*advance)(const typename Map::Coeffs&, Ensemble&, std::size_t, std::size_t, int,
                   const RunPlan&, Observers*);
+  void (*invariants)(const typename Map::Coeffs&, const Ensemble&, std::size_t, std::size_t,
+                     std::span<double* const>);
   std::array<double, 2> (*contraction_probe)(double, double, double);
 };
 
@@ -56,6 +66,7 @@ SimdPath<Map> simd_path(Isa isa) {
 #define QMAPS_SIMD_PATH(name)                                      \
   case Isa::name:                                                  \
     return {&advance_blocks<Map, arch_of<Isa::name>>,              \
+            &invariants_of_orbits<Map, arch_of<Isa::name>>,        \
             &contraction_probe<Map, arch_of<Isa::name>>};
     QMAPS_FOR_EACH_COMPILED_ISA(QMAPS_SIMD_PATH)
 #undef QMAPS_SIMD_PATH

@@ -66,6 +66,10 @@ class Model {
   // The phase point of one state (components in the order of state_names()).
   virtual Phase phase_of(std::span<const double> state) const = 0;
   virtual std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const = 0;
+  // The same for orbits [first, first + count), into out[k][0, count) for each invariant k, on
+  // the SIMD path of `isa` (lanes at a time; the same values on every path).
+  virtual void invariants_of_orbits(const Ensemble& e, std::size_t first, std::size_t count,
+                                    Isa isa, std::span<double* const> out) const = 0;
   // The invariants of one state (components in the order of state_names()).
   virtual std::vector<double> invariants_of(std::span<const double> state) const = 0;
   // Physical time of the orbit's current node (the same for every orbit unless

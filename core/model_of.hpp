@@ -79,6 +79,16 @@ class ModelOf final : public Model {
     Map::invariants(c_, state_of(e, orbit), values);
     return {values, values + invariant_names_.size()};
   }
+  void invariants_of_orbits(const Ensemble& e, std::size_t first, std::size_t count, Isa isa,
+                            std::span<double* const> out) const override {
+    if (out.size() != invariant_names_.size()) throw usage_error("a column per invariant");
+    if (isa != Isa::scalar) return simd_path<Map>(isa).invariants(c_, e, first, count, out);
+    for (std::size_t i = 0; i < count; ++i) {
+      double values[Map::max_invariants];
+      Map::invariants(c_, state_of(e, first + i), values);
+      for (std::size_t k = 0; k < out.size(); ++k) out[k][i] = values[k];
+    }
+  }
   std::vector<double> invariants_of(std::span<const double> state) const override {
     typename Map::template State<double> s;
     if (state.size() != s.size()) throw usage_error("a state of the wrong size");

@@ -1,8 +1,10 @@
 #pragma once
-// A SIMD path's entry point (declared in core/dispatch.hpp): orbits [first, first + count) in
-// blocks of lanes × chains, the number of chains chosen at run time. Included only by the per-ISA
-// translation units (core/simd_unit.cpp.in).
+// A SIMD path's entry points (declared in core/dispatch.hpp): orbits [first, first + count)
+// advanced in blocks of lanes × chains, the number of chains chosen at run time; and their
+// invariants, lanes at a time. Included only by the per-ISA translation units
+// (core/simd_unit.cpp.in).
 #include <cstddef>
+#include <span>
 
 #include "core/block.hpp"
 #include "core/dispatch.hpp"
@@ -29,6 +31,24 @@ void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t firs
     case 2: blocks.template operator()<2>(); break;
     case 4: blocks.template operator()<4>(); break;
     case 8: blocks.template operator()<8>(); break;
+  }
+}
+
+template <class Map, class Arch>
+void invariants_of_orbits(const typename Map::Coeffs& c, const Ensemble& e, std::size_t first,
+                          std::size_t count, std::span<double* const> out) {
+  using V = xsimd::batch<double, Arch>;
+  constexpr std::size_t W = V::size;
+  // Whole lanes from the aligned orbit at or before `first`: the state is padded to whole blocks.
+  for (std::size_t o = first / W * W; o < first + count; o += W) {
+    V values[Map::max_invariants];
+    Map::invariants(c, detail::Lanes<Map, V>::load(e, o), values);
+    alignas(64) double lanes[W];
+    for (std::size_t k = 0; k < out.size(); ++k) {
+      values[k].store_aligned(lanes);
+      for (std::size_t l = 0; l < W; ++l)
+        if (o + l >= first && o + l < first + count) out[k][o + l - first] = lanes[l];
+    }
   }
 }
 

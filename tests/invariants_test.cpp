@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -73,6 +75,37 @@ TEST_P(Invariants, DriftOverHundredThousandStepsStaysWithinTheMapsBound) {
                 per_orbit.back(), to_scale[n / 2], to_scale.back(), m.bound);
     EXPECT_LT(to_scale.back(), m.bound) << names[k];
     EXPECT_GT(to_scale.back(), 0.0) << names[k] << ": zero drift means nothing was tracked";
+  }
+}
+
+// The invariants of orbit ranges, as the file's /invariants/*/final columns are computed: on
+// every path (lanes at a time, from an orbit within a block, up to a range's last orbit), the
+// bytes of the reference's one orbit at a time. Some orbits escaped, so frozen states count too.
+TEST_P(Invariants, OrbitRangesOnEveryPathEqualTheReferenceByteForByte) {
+  const Conservation& m = GetParam();
+  const auto model = make_model(m.map, m.params);
+  RunPlan plan;
+  plan.total = plan.last = 20;
+  plan.escape_bound = 0.9;
+  Ensemble e = model->start(testing::box_points(37, 0.7, 0.7, 11), Start::taylor, 1e8);
+  model->advance(e, plan, Execution{Isa::scalar, 1, 1});
+  std::vector<Isa> paths = runnable_isas();
+  paths.push_back(Isa::scalar);
+  const std::size_t count = model->invariant_names().size();
+  for (Isa isa : paths) {
+    for (const auto& [first, n] : {std::pair<std::size_t, std::size_t>{0, 37}, {3, 29}, {36, 1}}) {
+      std::vector<std::vector<double>> columns(count, std::vector<double>(n));
+      std::vector<double*> out;
+      for (auto& c : columns) out.push_back(c.data());
+      model->invariants_of_orbits(e, first, n, isa, out);
+      for (std::size_t i = 0; i < n; ++i) {
+        const auto reference = model->invariants(e, first + i);
+        for (std::size_t k = 0; k < count; ++k)
+          EXPECT_EQ(std::memcmp(&columns[k][i], &reference[k], sizeof(double)), 0)
+              << isa_name(isa) << " orbit " << first + i << " invariant " << k << ": "
+              << columns[k][i] << " against " << reference[k];
+      }
+    }
   }
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
+#include <future>
 #include <cstdint>
 #include <vector>
 
@@ -216,26 +217,17 @@ std::vector<double> ChaosTable::bounded(std::size_t k) const {
   return out;
 }
 
-DriftHistogram drift_histogram(const Ensemble& e, std::size_t k, int threads) {
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
   DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
-  // Each thread counts its orbits in its own histogram; the counts add exactly.
-  threads = std::max(threads, 1);
-  std::vector<DriftHistogram> partials(static_cast<std::size_t>(threads),
-                                       DriftHistogram{d.histogram.empty_copy()});
-  for_each_row(e.orbits, threads, [&](std::size_t i) {
-    DriftHistogram& mine = partials[static_cast<std::size_t>(omp_get_thread_num())];
+  for (std::size_t i = 0; i < e.orbits; ++i) {
     const double drift = e.invariant_max_drift[k][i];
     if (drift == 0) {
-      ++mine.zero;
-      return;
+      ++d.zero;
+      continue;
     }
     const double scale = std::fabs(e.invariant_initial[k][i]);  // absolute where I_0 = 0
     const double x = std::log10(scale > 0 ? drift / scale : drift);
-    mine.histogram.add(&x);
-  });
-  for (const DriftHistogram& p : partials) {
-    d.histogram.merge(p.histogram);
-    d.zero += p.zero;
+    d.histogram.add(&x);
   }
   return d;
 }
@@ -336,9 +328,16 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const Ensemble& e = run.ensemble;
   const std::size_t n = e.orbits;
   const Rows rows = run.rows.or_all(n);
-  // The per-orbit values computed for the file (final phase points, invariants, drifts) are
-  // computed by the run's threads, each orbit's alone: the same values whatever their number.
-  const int threads = std::max(run.execution.threads, 1);
+  // The columns computed for the file (final phase points and invariants) are computed part by
+  // part on this thread, between its writes, which are mostly the kernel's copies. The drift
+  // histograms (a log10 per orbit and invariant, the most computing) are counted meanwhile by a
+  // thread of their own. OpenMP threads would spin idle between the parts on the core it needs.
+  auto drifts = std::async(std::launch::async, [&] {
+    std::vector<DriftHistogram> d;
+    for (std::size_t k = 0; k < model.invariant_names().size(); ++k)
+      d.push_back(drift_histogram(e, k));
+    return d;
+  });
 
   write_build(root);
   root.attr("map", std::string(model.name()));
@@ -385,11 +384,11 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     write_columns({{final_group, "q1"}, {final_group, "q2"}, {final_group, "p1"},
                    {final_group, "p2"}, {final_group, "t"}},
                   rows, [&](std::size_t first, std::size_t count, auto& values) {
-                    for_each_row(count, threads, [&](std::size_t i) {
+                    for (std::size_t i = 0; i < count; ++i) {
                       const Phase p = model.phase(e, first + i);
                       for (int k = 0; k < 4; ++k) values[k][i] = p.*phase_members[k];
                       values[4][i] = model.time(e, first + i);
-                    });
+                    }
                   });
     const auto state = final_group.create_group("state");
     state.attr("step", static_cast<std::int64_t>(e.step));
@@ -407,17 +406,18 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       write_rows<double>(groups[k], "initial", e.invariant_initial[k].span().first(n), rows);
       finals.push_back({groups[k], "final"});
     }
+    // On the run's own path, lanes at a time.
     write_columns(finals, rows, [&](std::size_t first, std::size_t count, auto& values) {
-      for_each_row(count, threads, [&](std::size_t i) {
-        const auto v = model.invariants(e, first + i);
-        for (std::size_t k = 0; k < v.size(); ++k) values[k][i] = v[k];
-      });
+      std::vector<double*> out;
+      for (auto& v : values) out.push_back(v.data());
+      model.invariants_of_orbits(e, first, count, run.execution.isa, out);
     });
     for (std::size_t k = 0; k < inv_names.size(); ++k)
       write_rows<double>(groups[k], "max_abs_drift", e.invariant_max_drift[k].span().first(n), rows);
   }
+  std::vector<DriftHistogram> drift_of = drifts.get();
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    DriftHistogram drift = drift_histogram(e, k, threads);
+    DriftHistogram& drift = drift_of[k];
     add_over_ranks(drift.histogram);
     const auto dg = groups[k].create_group("drift_histogram");
     write_histogram(dg, drift.histogram, "counts");

@@ -110,13 +110,12 @@ void copy_phase(const h5::Group& from, const h5::Group& to, Rows rows);
 
 // The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k
 // (the absolute drift where I_0 = 0, as qmaps info and check report it):
-// bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins). Counted
-// by `threads` threads.
+// bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins).
 struct DriftHistogram {
   Histogram histogram;
   std::int64_t zero = 0;
 };
-DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant, int threads);
+DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
 
 // The schema and the build that wrote the file: version, commit, compiler and flags.
 void write_build(const h5::Group& root);
