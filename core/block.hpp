@@ -183,7 +183,7 @@ template <class Map, class V, int K, bool keep_before, class Sample>
     x.chain = k;
     x.section = section;
   };
-  if (watch.count == 0) {
+  if (!keep_before && watch.count == 0) {  // (keep_before implies a watched section)
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
 #pragma GCC unroll 2
