@@ -330,14 +330,12 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const Rows rows = run.rows.or_all(n);
   // The columns computed for the file (final phase points and invariants) are computed part by
   // part on this thread, between its writes, which are mostly the kernel's copies. The drift
-  // histograms (a log10 per orbit and invariant, the most computing) are counted meanwhile by a
-  // thread of their own. OpenMP threads would spin idle between the parts on the core it needs.
-  auto drifts = std::async(std::launch::async, [&] {
-    std::vector<DriftHistogram> d;
-    for (std::size_t k = 0; k < model.invariant_names().size(); ++k)
-      d.push_back(drift_histogram(e, k));
-    return d;
-  });
+  // histograms (a log10 per orbit and invariant, the most computing) are counted meanwhile, each
+  // by a thread of its own. OpenMP threads would spin idle between the parts on the cores they
+  // need.
+  std::vector<std::future<DriftHistogram>> drifts;
+  for (std::size_t k = 0; k < model.invariant_names().size(); ++k)
+    drifts.push_back(std::async(std::launch::async, [&e, k] { return drift_histogram(e, k); }));
 
   write_build(root);
   root.attr("map", std::string(model.name()));
@@ -415,9 +413,8 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     for (std::size_t k = 0; k < inv_names.size(); ++k)
       write_rows<double>(groups[k], "max_abs_drift", e.invariant_max_drift[k].span().first(n), rows);
   }
-  std::vector<DriftHistogram> drift_of = drifts.get();
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    DriftHistogram& drift = drift_of[k];
+    DriftHistogram drift = drifts[k].get();
     add_over_ranks(drift.histogram);
     const auto dg = groups[k].create_group("drift_histogram");
     write_histogram(dg, drift.histogram, "counts");
