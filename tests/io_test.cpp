@@ -214,8 +214,8 @@ TEST_F(Io, FinalPhaseAndInvariantsEqualKernelOfState) {
   }
 }
 
-// The per-orbit values of the file (final points, invariants, drift histograms) are computed by
-// the run's threads, each orbit's alone: one thread and two write the same datasets.
+// The per-orbit values of the file (final points, invariants, drift histograms) are computed
+// each orbit's alone, whatever the run's threads: one thread and two write the same datasets.
 TEST_F(Io, OneThreadAndTwoWriteTheSameDatasets) {
   config = with_line(config, "orbits = ", "orbits = 3001");
   run_root({"--threads", "1"}, dir / "one.h5");
