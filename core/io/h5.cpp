@@ -488,7 +488,9 @@ File AtomicFile::create_hdf5(int deflate) const {
   return File(Handle(id, H5Fclose), temporary_, deflate, shared_);
 }
 
-AtomicFile::~AtomicFile() {
+AtomicFile::~AtomicFile() { discard(); }
+
+void AtomicFile::discard() {
   if (!committed_ && (!shared_ || ranks::root())) std::remove(temporary_.c_str());
 }
 

@@ -130,6 +130,9 @@ class AtomicFile {
   const std::string& temporary() const { return temporary_; }
   const std::string& path() const { return path_; }
   void commit();
+  // Removes the temporary now, as destruction would, for an output that will not be committed;
+  // the file open on it stays usable until closed.
+  void discard();
 
  private:
   std::string path_, temporary_;

@@ -121,6 +121,10 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     if (e.step == r.plan.total) break;
     self_signal.deliver_if_due(e.step);
     const int signal = static_cast<int>(ranks::max(std::int64_t{interrupt.signal()}));
+    // Stopped, the run writes no output: its temporary goes at once, before the checkpoint, so
+    // that a kill in what remains (mpirun's SIGKILL, 1 s after it passed SIGTERM on to the
+    // ranks) leaves none behind.
+    if (signal != 0) output.discard();
     if (signal != 0 && !options.checkpoint_on_interrupt) {
       progress.end();
       log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
