@@ -139,7 +139,8 @@ struct ChunkSamples {
 // codes, serve all the chains. The chains are stepped in a local copy whose address never
 // escapes, so that the compiler can keep it in registers. The watched sections' crossings by the
 // `alive` lanes go to watch.crossings, in step order; `crossed` tells how many. At the sampling
-// steps, sample(w) observes the chains; where the test trips there, the chunk stops, suspect.
+// steps, sample(k, x) observes each chain k at its state x there; where the test trips there, the
+// chunk stops, suspect.
 template <class Map, class V, int K, bool keep_before, class Sample>
 [[gnu::always_inline]] inline bool step_chunk(const typename Map::Coeffs& c,
                                                 typename Map::template State<V> (&s)[K],
@@ -153,6 +154,20 @@ template <class Map, class V, int K, bool keep_before, class Sample>
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
   bool clean = true;  // false: the test tripped at a sampling step
+  // The chains' states at the last sampling step, observed one chain per step after it: the
+  // observing then overlaps the next steps' divisions rather than stalling the divider for all
+  // chains at once. The order of the samples changes nothing (counts, maxima).
+  typename Map::template State<V> held[K];
+  int unobserved = K;  // held[unobserved..K) are still to be observed
+  const auto observe_one = [&] {
+    if (unobserved < K) {
+      sample(unobserved, held[unobserved]);
+      ++unobserved;
+    }
+  };
+  const auto observe_all = [&] {
+    while (unobserved < K) observe_one();
+  };
   // After step j: whether the samples due there were taken (false: the test trips there).
   const auto samples_taken = [&](long long j) {
     if (j + 1 != samples.at) return true;
@@ -160,7 +175,9 @@ template <class Map, class V, int K, bool keep_before, class Sample>
     for (int k = 0; k < K; ++k) reach = reach + Map::escape_measure(w[k]);
     if (ops::any(ops::negate(reach <= bound2) | (faults != V(0.0)))) [[unlikely]]
       return clean = false;
-    sample(w);
+    observe_all();  // a stride shorter than the chains
+    for (int k = 0; k < K; ++k) held[k] = w[k];
+    unobserved = 0;
     samples.through = j + 1;
     samples.at += samples.stride;
     return true;
@@ -189,6 +206,7 @@ template <class Map, class V, int K, bool keep_before, class Sample>
 #pragma GCC unroll 2
     for (long long j = 0; j < steps; ++j) {
       for (int k = 0; k < K; ++k) advance(k);
+      observe_one();
       if (!samples_taken(j)) break;
     }
   } else if (watch.count == 1 && is_position(watch.sections[0]->plane)) {
@@ -239,6 +257,7 @@ template <class Map, class V, int K, bool keep_before, class Sample>
               n += ops::any(crossing[k]) ? 1 : 0;
             }
           }
+          observe_one();
           if (!samples_taken(j)) break;
         }
       } else {
@@ -253,6 +272,7 @@ template <class Map, class V, int K, bool keep_before, class Sample>
               keep(crossing, before, k, j, 0);
             previous[k] = now;
           }
+          observe_one();
           if (!samples_taken(j)) break;
         }
       }
@@ -283,9 +303,11 @@ template <class Map, class V, int K, bool keep_before, class Sample>
           previous[k][i] = now;
         }
       }
+      observe_one();
       if (!samples_taken(j)) break;
     }
   }
+  observe_all();
   crossed = n;
   if (!clean) return true;
   for (int k = 0; k < K; ++k) {
@@ -488,7 +510,7 @@ template <class Map, class V, int K>
     State start[K];
     for (int k = 0; k < K; ++k) start[k] = s[k];
     const bool suspect = detail::step_any_chunk<Map, V, K>(c, s, n, next - n, bound2, watch,
-                                                           alive, crossed, samples, sample_chains);
+                                                           alive, crossed, samples, sample);
     if (suspect) {  // replay the chunk step by step, its crossings and samples checked as they come
       for (int k = 0; k < K; ++k) s[k] = start[k];
       refresh_before();
