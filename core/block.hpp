@@ -7,8 +7,9 @@
 // computes exactly what the reference path computes for its orbit. A map whose step solves an
 // equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
 // The samples (invariants, densities) are taken inside the chunk at the multiples of the stride,
-// each only where the test holds up to it; a chunk that trips there stops, and its replay takes
-// only the samples not yet taken.
+// each only where the test holds up to it (the chains' states held there and observed one chain
+// per step after it, overlapping the next steps' divisions); a chunk that trips there stops, and
+// its replay takes only the samples not yet taken.
 //
 // The scalar reference path is the same code at V = double, one orbit per block, one checked step
 // at a time (advance_range in core/runner.hpp): the reference and every ISA share one implementation of
