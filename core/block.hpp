@@ -9,7 +9,9 @@
 // The samples (invariants, densities) are taken inside the chunk at the multiples of the stride,
 // each only where the test holds up to it (the chains' states held there and observed one chain
 // per step after it, overlapping the next steps' divisions); a chunk that trips there stops, and
-// its replay takes only the samples not yet taken.
+// its replay takes only the samples not yet taken. The lanes that cross the usual watched section
+// (one position plane, iterate points) are packed as they cross, and their points computed a
+// whole batch at a time once the chunk proves clean.
 //
 // The scalar reference path is the same code at V = double, one orbit per block, one checked step
 // at a time (advance_range in core/runner.hpp): the reference and every ISA share one implementation of
@@ -21,6 +23,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "core/aligned_array.hpp"
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
 #include "core/run_plan.hpp"
@@ -113,6 +116,16 @@ struct Watch {
   bool keep_before = false;  // a section's point needs the state before the crossing too
   // Room for every crossing a chunk can have (its steps × K chains × count): filled from 0.
   Crossing<Map, V>* crossings = nullptr;
+  // The usual watch, one section on a position plane whose point is the iterate's, is lane
+  // dense: the lanes that cross are packed as they cross, each state coordinate i from
+  // staged + i · room and then each lane's id from staged + size · room (its step in the chunk
+  // · K·W + its chain · W + its lane), so that the points are computed a whole batch at a time.
+  // room: every lane of every step of a chunk, and a batch more.
+  double* staged = nullptr;
+  std::size_t room = 0;
+  bool lane_dense() const {
+    return count == 1 && !keep_before && is_position(sections[0]->plane);
+  }
 
   // The section's plane coordinate at the state's node: the same value node_values gives.
   static V plane(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
@@ -150,8 +163,9 @@ template <class Map, class V, int K, bool keep_before, class Sample>
                                                 const ops::mask_t<V> (&alive)[K],
                                                 std::size_t& crossed, ChunkSamples& samples,
                                                 Sample& sample) {
+  constexpr std::size_t W = ops::lanes<V>;
   typename Map::template State<V> w[K];
-  std::size_t n = 0;  // crossings so far
+  std::size_t n = 0;  // crossings (lane dense: lanes) so far
   for (int k = 0; k < K; ++k) w[k] = s[k];
   V acc(0.0), faults(0.0);
   bool clean = true;  // false: the test tripped at a sampling step
@@ -231,10 +245,11 @@ template <class Map, class V, int K, bool keep_before, class Sample>
         live[k] = alive[k];
       }
       if constexpr (!keep_before) {
-        // One branch per step for all the chains: a crossing is rare for each lane but common
-        // among all, and a branch per chain mispredicts often enough to undo the chains' overlap
-        // (a section alone, Suris on AVX-512: +10-20% with 2 threads; on AVX2 within noise).
-        // Every chain's record is written when any crossed; only those that crossed are kept.
+        // Lane dense (Watch::staged): one branch per step for all the chains (a crossing is rare
+        // for each lane but common among all, and a branch per chain mispredicts often), then
+        // every chain's crossing lanes packed, without a branch.
+        constexpr std::size_t size = std::tuple_size_v<typename Map::template State<V>>;
+        const V lane = ops::lane_index<V>();
         for (long long j = 0; j < steps; ++j) {
           ops::mask_t<V> crossing[K];
 #pragma GCC unroll 8
@@ -247,15 +262,14 @@ template <class Map, class V, int K, bool keep_before, class Sample>
           ops::mask_t<V> any = crossing[0];
           for (int k = 1; k < K; ++k) any = any | crossing[k];
           if (ops::any(any)) {
+            const V step_id(static_cast<double>((j + 1) * K * static_cast<long long>(W)));
 #pragma GCC unroll 8
             for (int k = 0; k < K; ++k) {
-              auto& x = watch.crossings[n];
-              x.after = w[k];
-              x.lanes = crossing[k];
-              x.step = first + j + 1;
-              x.chain = k;
-              x.section = 0;
-              n += ops::any(crossing[k]) ? 1 : 0;
+              double* at = watch.staged + n;
+              for (std::size_t i = 0; i < size; ++i)
+                ops::compress(at + i * watch.room, crossing[k], w[k][i]);
+              n += ops::compress(at + size * watch.room, crossing[k],
+                                 step_id + V(static_cast<double>(k * static_cast<int>(W))) + lane);
             }
           }
           observe_one();
@@ -415,6 +429,7 @@ template <class Map, class V, int K>
   // Each chunk's crossings go to one buffer per thread, kept across blocks and sized for the most
   // a chunk can have: it grows only on a thread's first blocks.
   thread_local std::vector<detail::Crossing<Map, V>> crossings;
+  thread_local AlignedArray<double> staged;  // lane dense (detail::Watch::staged)
   std::size_t crossed = 0;  // in the last chunk
   detail::Watch<Map, V> watch;
   if (sections && observers->sections.size() <= detail::max_watched) {
@@ -422,9 +437,16 @@ template <class Map, class V, int K>
       watch.sections[watch.count++] = &section;
       watch.keep_before = watch.keep_before || section.needs_before();
     }
-    const std::size_t room = static_cast<std::size_t>(detail::max_chunk) * K * watch.count;
-    if (crossings.size() < room) crossings.resize(room);
-    watch.crossings = crossings.data();
+    if (watch.lane_dense()) {
+      watch.room = (static_cast<std::size_t>(detail::max_chunk) * K + 1) * W;
+      const std::size_t values = watch.room * (std::tuple_size_v<State> + 1);
+      if (staged.size() < values) staged = AlignedArray<double>(values);
+      watch.staged = staged.data();
+    } else {
+      const std::size_t room = static_cast<std::size_t>(detail::max_chunk) * K * watch.count;
+      if (crossings.size() < room) crossings.resize(room);
+      watch.crossings = crossings.data();
+    }
   }
   const bool sampling = plan.track_invariants || densities;
   // The next multiple of the stride (plan.samples_at without a division per single step).
@@ -468,7 +490,23 @@ template <class Map, class V, int K>
   // scalar reads do not wait on the stores just made of them).
   thread_local std::vector<CrossingLanes<V>> prepared;  // the first pass's, one per crossing
   if (prepared.size() < crossings.size()) prepared.resize(crossings.size());
-  const auto record_crossings = [&] {
+  const auto record_crossings = [&](long long chunk_first) {
+    if (watch.lane_dense()) {  // a batch of packed lanes at a time; the last batch's first lanes
+      Section& section = observers->sections[0];
+      constexpr std::size_t size = std::tuple_size_v<State>, chunk_lanes = K * W;
+      for (std::size_t i = 0; i < crossed; i += W) {
+        State after;
+        for (std::size_t k = 0; k < size; ++k) after[k] = ops::load<V>(watch.staged + k * watch.room + i);
+        const Mask lanes = ops::lane_index<V>() < V(static_cast<double>(crossed - i));
+        const auto values = node_values<Map>(c, after, section_momentum);
+        const auto id = ops::integer_lanes(ops::load<V>(watch.staged + size * watch.room + i));
+        keep_lanes(
+            section, crossing_lanes<Map>(c, section, lanes, values, values),
+            [&](std::size_t l) { return first + id[l] % chunk_lanes; },
+            [&](std::size_t l) { return chunk_first + static_cast<long long>(id[l] / chunk_lanes); });
+      }
+      return;
+    }
     for (std::size_t i = 0; i < crossed; ++i) {
       const auto& x = crossings[i];
       Section& section = observers->sections[static_cast<std::size_t>(x.section)];
@@ -524,7 +562,7 @@ template <class Map, class V, int K>
       }
     } else {
       if (watch.count > 0) {
-        record_crossings();
+        record_crossings(n);
         before_stale = true;
       }
       if (sampling && next == plan.total && next % plan.stride != 0) sample_chains(s);

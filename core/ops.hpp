@@ -16,6 +16,9 @@
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
 //   integer_lanes     the lanes of a value holding exact integers in [0, 2^52), as integers
+//   compress(p, m, v) the lanes of v where m holds, stored packed from p in lane order (p has
+//                     room for a whole batch: the lanes after them are overwritten); their count
+//   lane_index<V>()   each lane's index, as a value
 //
 // This is the only file that touches xsimd or intrinsics.
 #include <array>
@@ -87,6 +90,11 @@ inline void store(double* p, T v) { *p = static_cast<double>(v); }
 template <std::floating_point T>
 inline std::array<double, 1> lanes_of(T v) { return {static_cast<double>(v)}; }
 inline std::array<bool, 1> lanes_of(bool m) { return {m}; }
+template <std::floating_point T>
+inline std::size_t compress(double* p, bool m, T v) {
+  *p = static_cast<double>(v);
+  return m ? 1 : 0;
+}
 
 // ---- batch ----------------------------------------------------------------------------------
 template <class A>
@@ -192,6 +200,40 @@ inline std::array<bool, batch<A>::size> lanes_of(xsimd::batch_bool<double, A> m)
   return out;
 }
 
+namespace detail {
+// For each 4-lane mask, the 32-bit halves of its lanes first, in order: one permute packs them.
+inline constexpr auto packed_halves = [] {
+  std::array<std::array<std::int32_t, 8>, 16> order{};
+  for (int m = 0; m < 16; ++m) {
+    int j = 0;
+    for (int l = 0; l < 4; ++l)
+      if (m >> l & 1) {
+        order[m][2 * j] = 2 * l;
+        order[m][2 * j + 1] = 2 * l + 1;
+        ++j;
+      }
+  }
+  return order;
+}();
+}  // namespace detail
+
+template <class A>
+inline std::size_t compress(double* p, xsimd::batch_bool<double, A> m, batch<A> v) {
+  const std::uint64_t b = bits(m);
+  if constexpr (batch<A>::size == 8) {
+    _mm512_storeu_pd(p, _mm512_maskz_compress_pd(static_cast<__mmask8>(b), v));
+    return static_cast<std::size_t>(std::popcount(b));
+  } else if constexpr (batch<A>::size == 4) {
+    const __m256i order = _mm256_loadu_si256(
+        reinterpret_cast<const __m256i*>(detail::packed_halves[b].data()));
+    _mm256_storeu_pd(p, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), order)));
+    return static_cast<std::size_t>(std::popcount(b));
+  } else {
+    _mm_storeu_pd(p, b == 2 ? _mm_unpackhi_pd(v, v) : __m128d(v));
+    return static_cast<std::size_t>((b & 1) + (b >> 1));
+  }
+}
+
 // maxpd(x, y) = x > y ? x : y and minpd(x, y) = x < y ? x : y (the second operand on equality
 // or NaN), so max(a, b) = maxpd(b, a) and min(a, b) = minpd(b, a), as the scalar rule below.
 template <class A>
@@ -234,6 +276,16 @@ inline std::array<std::uint64_t, lanes<V>> integer_lanes(V v) {
 }
 template <class V>
 inline V square(V a) { return a * a; }
+template <class V>
+inline V lane_index() {
+  if constexpr (std::floating_point<V>) {
+    return V(0.0);
+  } else {
+    alignas(64) std::array<double, lanes<V>> index;
+    for (std::size_t l = 0; l < index.size(); ++l) index[l] = static_cast<double>(l);
+    return load<V>(index.data());
+  }
+}
 
 // ln a for double and batches, one algorithm: a = m·2^e with m in [√½, √2) (subnormals scaled by
 // 2^200 first, exactly), f = m − 1, s = f/(2 + f), and

@@ -115,15 +115,16 @@ template <class Make>
 std::pair<Observers, Ensemble> expect_every_path_equal(const Model& model,
                                                         const std::vector<Phase>& points,
                                                         const RunPlan& plan, Make make,
-                                                        const std::string& what) {
+                                                        const std::string& what,
+                                                        Start start = Start::taylor) {
   Observers ref = make();
-  Ensemble e0 = model.start(points, Start::taylor, plan.escape_bound);
+  Ensemble e0 = model.start(points, start, plan.escape_bound);
   model.advance(e0, plan, Execution{}, &ref);
   for (Isa isa : testing::isas_to_run())
     for (int threads : {1, 2})
       for (int chains : {1, 4, 8}) {
         Observers o = make();
-        Ensemble e = model.start(points, Start::taylor, plan.escape_bound);
+        Ensemble e = model.start(points, start, plan.escape_bound);
         model.advance(e, plan, Execution{isa, threads, chains}, &o);
         const std::string where = what + ": " + std::string(isa_name(isa)) + ", " +
                                   std::to_string(threads) + " threads, " +
@@ -169,6 +170,31 @@ TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
       EXPECT_TRUE(escape_after) << "no orbit escapes right after a crossing";
     }
   }
+}
+
+// A chunk packs every lane that crosses, at every one of its steps if need be: with h = 2,
+// Suris' map has a stable 2-cycle q, −q at |q|² = (−a − 1)/g (a = 1 − Ah², g = 2αh²; here q1 = ±1/3,
+// q2 = 0), and the orbits started near it (an Euler start, q_1 = q_0 + h p ≈ −q_0) cross q1 = 0
+// at every step, so that each chunk's packed lanes fill its room.
+TEST(Observers, SectionCrossedAtEveryStepIsBitIdenticalOnEveryPath) {
+  const double h = 2;
+  const auto model = testing::suris(0.7, 0.3, 0.9, h);
+  std::vector<Phase> points = testing::box_points(1001, 0.05, 0.05);
+  for (std::size_t i = 0; i < points.size(); ++i) {  // jitter of q and of q_1 + q_0 up to 0.05
+    Phase& x = points[i];
+    const double q1 = (i % 2 ? 1.0 : -1.0) / 3 + x.q1, q2 = x.q2;
+    x = {q1, q2, (x.p1 - 2 * q1) / h, (x.p2 - 2 * q2) / h};
+  }
+  const auto make = [&] {
+    Observers o;
+    o.sections.push_back(section("q1both", Coordinate::q1, 0, false, 600, points.size()));
+    return o;
+  };
+  const auto [ref, e0] =
+      expect_every_path_equal(*model, points, plan_of(600, 600), make, "h = 2", Start::euler);
+  std::size_t every_step = 0;  // orbits that crossed at every step
+  for (const std::int64_t kept : ref.sections[0].points->kept()) every_step += kept == 600;
+  EXPECT_GT(every_step, 990u) << "the orbits must cross at every step";
 }
 
 TEST(Observers, SectionWithCapZeroCountsItsDensityOnlyOnEveryPath) {

@@ -90,16 +90,22 @@ CrossingLanes<V> crossing_lanes(const typename Map::Coeffs& c, Section& section,
           ops::bits(crossing)};
 }
 
-// Records a crossing at `step` (lane l: orbit first_orbit + l): every crossing in the section's
-// density; its point while the orbit's cap allows.
-template <class V>
-void keep_lanes(Section& section, const CrossingLanes<V>& x, std::size_t first_orbit,
-                long long step) {
+// Records a crossing, lane l's by orbit orbit_of(l) at step step_of(l): every crossing in the
+// section's density; its point while the orbit's cap allows.
+template <class V, class OrbitOf, class StepOf>
+void keep_lanes(Section& section, const CrossingLanes<V>& x, OrbitOf orbit_of, StepOf step_of) {
   for (std::uint64_t lanes = x.lanes; lanes != 0; lanes &= lanes - 1) {
     const auto l = static_cast<std::size_t>(std::countr_zero(lanes));
     section.density.add_slot(x.slots[l]);
-    if (section.cap > 0) section.points->keep(first_orbit + l, step, x.x[l], x.y[l]);
+    if (section.cap > 0) section.points->keep(orbit_of(l), step_of(l), x.x[l], x.y[l]);
   }
+}
+// The same for lanes of one batch at one step: lane l's orbit is first_orbit + l.
+template <class V>
+void keep_lanes(Section& section, const CrossingLanes<V>& x, std::size_t first_orbit,
+                long long step) {
+  keep_lanes(section, x, [&](std::size_t l) { return first_orbit + l; },
+             [&](std::size_t) { return step; });
 }
 
 // Every section crossed by an alive lane between node n (`before`) and node n + 1 = `step`
