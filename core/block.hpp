@@ -497,14 +497,17 @@ template <class Map, class V, int K>
       constexpr std::size_t size = std::tuple_size_v<State>, chunk_lanes = K * W;
       for (std::size_t i = 0; i < crossed; i += W) {
         State after;
-        for (std::size_t k = 0; k < size; ++k) after[k] = ops::load<V>(watch.staged + k * watch.room + i);
+        for (std::size_t k = 0; k < size; ++k)
+          after[k] = ops::load<V>(watch.staged + k * watch.room + i);
         const Mask lanes = ops::lane_index<V>() < V(static_cast<double>(crossed - i));
         const auto values = node_values<Map>(c, after, section_momentum);
         const auto id = ops::integer_lanes(ops::load<V>(watch.staged + size * watch.room + i));
-        keep_lanes(
-            section, crossing_lanes<Map>(c, section, lanes, values, values),
-            [&](std::size_t l) { return first + id[l] % chunk_lanes; },
-            [&](std::size_t l) { return chunk_first + static_cast<long long>(id[l] / chunk_lanes); });
+        const auto orbit_of = [&](std::size_t l) { return first + id[l] % chunk_lanes; };
+        const auto step_of = [&](std::size_t l) {
+          return chunk_first + static_cast<long long>(id[l] / chunk_lanes);
+        };
+        keep_lanes(section, crossing_lanes<Map>(c, section, lanes, values, values), orbit_of,
+                   step_of);
       }
       return;
     }

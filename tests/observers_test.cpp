@@ -173,9 +173,9 @@ TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
 }
 
 // A chunk packs every lane that crosses, at every one of its steps if need be: with h = 2,
-// Suris' map has a stable 2-cycle q, −q at |q|² = (−a − 1)/g (a = 1 − Ah², g = 2αh²; here q1 = ±1/3,
-// q2 = 0), and the orbits started near it (an Euler start, q_1 = q_0 + h p ≈ −q_0) cross q1 = 0
-// at every step, so that each chunk's packed lanes fill its room.
+// Suris' map has a stable 2-cycle q, −q at |q|² = (−a − 1)/g (a = 1 − Ah², g = 2αh²; here
+// q1 = ±1/3, q2 = 0), and the orbits started near it (an Euler start, q_1 = q_0 + h p ≈ −q_0)
+// cross q1 = 0 at every step, so that each chunk's packed lanes fill its room.
 TEST(Observers, SectionCrossedAtEveryStepIsBitIdenticalOnEveryPath) {
   const double h = 2;
   const auto model = testing::suris(0.7, 0.3, 0.9, h);
