@@ -14,6 +14,7 @@
 #include <type_traits>
 
 #include "core/error.hpp"
+#include "core/io/files.hpp"
 #include "core/ranks.hpp"
 
 namespace qmaps::h5 {
@@ -418,9 +419,11 @@ void File::close() {
 }
 
 File File::open_read(const std::string& path) {
-  if (access(path.c_str(), R_OK) != 0)
-    throw Error(ExitCode::io, "cannot read '" + path + "': " + std::strerror(errno));
+  files::check_regular_input(path, "");
+  errno = 0;
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0 && (errno == EMFILE || errno == ENFILE))
+    throw Error(ExitCode::io, "cannot read " + files::open_failure(path, errno));
   if (id < 0) throw Error(ExitCode::io, "'" + path + "' is not an HDF5 file");
   return File(Handle(id, H5Fclose), path);
 }
@@ -431,51 +434,13 @@ Group File::root() const {
                "/", deflate_, shared_);
 }
 
-namespace {
-
-// Removes the temporaries "<path>.tmp-<pid>" that processes now dead left (killed with SIGKILL, or
-// stopped by a second signal): a run to the same output never leaves them behind for good.
-void remove_stale_temporaries(const std::string& path) {
-  const auto slash = path.rfind('/');
-  const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp-";
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
-    const std::string name = entry.path().filename().string();
-    if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
-    const std::string digits = name.substr(prefix.size());
-    if (digits.size() > 9 || !std::all_of(digits.begin(), digits.end(), [](unsigned char c) { return std::isdigit(c) != 0; })) continue;
-    const pid_t pid = static_cast<pid_t>(std::stol(digits));
-    if (pid > 0 && pid != getpid() && kill(pid, 0) != 0 && errno == ESRCH)
-      std::filesystem::remove(entry.path(), error);
-  }
-}
-
-}  // namespace
-
 AtomicFile::AtomicFile(std::string path, bool shared) : path_(std::move(path)), shared_(shared) {
   const std::string pid = std::to_string(getpid());
   temporary_ = path_ + ".tmp-" + (shared_ ? ranks::from_root(pid) : pid);
-  if (!shared_) {
-    struct stat info;
-    if (stat(path_.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-      throw Error(ExitCode::io, "output path '" + path_ + "' is a directory");
-    remove_stale_temporaries(path_);
-    return;
-  }
   check_writable(path_);  // on every rank, before any of them creates the file
-  if (ranks::root()) remove_stale_temporaries(path_);
 }
 
-void AtomicFile::check_writable(const std::string& path) {
-  struct stat info;
-  if (stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode))
-    throw Error(ExitCode::io, "output path '" + path + "' is a directory");
-  const auto slash = path.rfind('/');
-  const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  if (access(folder.c_str(), W_OK | X_OK) != 0)
-    throw Error(ExitCode::io, "cannot write '" + path + "': " + std::strerror(errno));
-}
+void AtomicFile::check_writable(const std::string& path) { files::check_output_target(path); }
 
 File AtomicFile::create_hdf5(int deflate) const {
   errno = 0;
@@ -483,7 +448,7 @@ File AtomicFile::create_hdf5(int deflate) const {
   if (id < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
-                                  (err ? std::string(": ") + std::strerror(err) : std::string()));
+                                  (err ? ": " + files::reason(err) : std::string()));
   }
   return File(Handle(id, H5Fclose), temporary_, deflate, shared_);
 }
@@ -496,7 +461,12 @@ void AtomicFile::discard() {
 
 void AtomicFile::commit() {
   ranks::Failure failure;
-  if ((!shared_ || ranks::root()) && std::rename(temporary_.c_str(), path_.c_str()) != 0)
+  if (!shared_ || ranks::root()) try {
+      files::check_output_target(path_);  // what the name holds now: still no link or device
+    } catch (const Error& e) {
+      failure = {static_cast<int>(ExitCode::io), e.what()};
+    }
+  if (failure.code == 0 && (!shared_ || ranks::root()) && std::rename(temporary_.c_str(), path_.c_str()) != 0)
     failure = {static_cast<int>(ExitCode::io), "cannot rename '" + temporary_ + "' to '" + path_ +
                                                    "': " + std::strerror(errno)};
   if (shared_) failure = ranks::first_failure(failure);

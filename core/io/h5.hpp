@@ -112,14 +112,16 @@ class File {
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
 // commit, the temporary is removed. A killed process leaves no file under the final name.
-// Constructed, it has checked that <path> can be written (it is no directory, its folder exists).
-// Shared (by default where there are several ranks; every rank's call), the temporary is named by rank 0's pid, and rank 0
-// alone renames or removes it.
+// Constructed, it has checked that <path> can be replaced (core/io/files.hpp: a regular file or
+// none, in a folder that can be written); commit() checks it again just before the rename.
+// Construct it under the output's lock (ensembles/io/output_lock.hpp). Shared (by default where
+// there are several ranks; every rank's call), the temporary is named by rank 0's pid, and rank
+// 0 alone renames or removes it.
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path, bool shared = ranks::count() > 1);
-  // Throws the io error the constructor would for `path` (a directory, or a folder that does
-  // not exist or cannot be written), with no other effect.
+  // Throws the io error the constructor would for `path` (core/io/files.hpp's
+  // check_output_target), with no other effect.
   static void check_writable(const std::string& path);
   // The HDF5 file at the temporary, its datasets gzip-compressed at level `deflate` (1-9; 0:
   // none); errors name <path>.

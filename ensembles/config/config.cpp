@@ -9,6 +9,7 @@
 #include <toml++/toml.h>
 
 #include "core/error.hpp"
+#include "core/io/files.hpp"
 
 namespace qmaps {
 namespace {
@@ -133,16 +134,7 @@ Config Config::parse(std::string_view text, std::string source) {
 }
 
 Config Config::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(ExitCode::io, "cannot read config file '" + path + "'");
-  in.seekg(0, std::ios::end);
-  if (const auto size = in.tellg(); size > static_cast<std::streamoff>(max_config_bytes))
-    throw usage_error(path + ": " + std::to_string(size) +
-                      " bytes; a configuration may have at most " + std::to_string(max_config_bytes));
-  in.seekg(0);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path);
+  return parse(files::read_regular_file(path, max_config_bytes, "config file"), path);
 }
 
 void Config::set(std::string_view assignment) {

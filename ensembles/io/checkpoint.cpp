@@ -84,14 +84,19 @@ h5::File open_checkpoint(const std::string& path) {
   const auto root = file.root();
   if (!root.has_attr("checkpoint_version"))
     throw corrupt(path, "it has no attribute checkpoint_version (a run's final file is no checkpoint)");
-  const auto version = root.attr_int64("checkpoint_version");
-  const auto schema = root.has_attr("schema_version") ? root.attr_int64("schema_version") : -1;
+  std::int64_t version = 0, schema = -1;
+  std::string writer = "?";
+  try {  // an attribute of another type or shape is named
+    version = root.attr_int64("checkpoint_version");
+    if (root.has_attr("schema_version")) schema = root.attr_int64("schema_version");
+    if (root.has_attr("qmaps_version")) writer = root.attr_string("qmaps_version");
+  } catch (const Error& e) {
+    throw corrupt(path, e.what());
+  }
   if (version != checkpoint_version || schema != schema_version)
     throw corrupt(path, "it has checkpoint version " + std::to_string(version) + " and schema " +
-                            std::to_string(schema) + " (written by qmaps " +
-                            (root.has_attr("qmaps_version") ? root.attr_string("qmaps_version")
-                                                            : std::string("?")) +
-                            "); qmaps " + build::version + " resumes checkpoint version " +
+                            std::to_string(schema) + " (written by qmaps " + writer + "); qmaps " +
+                            build::version + " resumes checkpoint version " +
                             std::to_string(checkpoint_version) + ", schema " +
                             std::to_string(schema_version));
   return file;
@@ -126,6 +131,9 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
     const std::int64_t at = e.escape_step[i];
     if (at < -1 || at > e.step)
       throw bad(escape, "orbit " + std::to_string(j) + " escaped at step " + std::to_string(at));
+    if (at < 0 && e.escape_reason[i] != 0)
+      throw bad(escape, "orbit " + std::to_string(j) + " has not escaped but has escape reason " +
+                            std::to_string(e.escape_reason[i]));
     if (at >= 0 && (e.escape_reason[i] == 0 || e.escape_reason[i] > last_escape_reason))
       throw bad(escape, "orbit " + std::to_string(j) + " has escape reason " +
                             std::to_string(e.escape_reason[i]));

@@ -3,13 +3,15 @@
 #include <algorithm>
 #include <cmath>
 #include <ctime>
-#include <future>
 #include <cstdint>
+#include <future>
+#include <system_error>
 #include <vector>
 
 #include <unistd.h>
 #include <omp.h>
 
+#include "core/error.hpp"
 #include "core/ranks.hpp"
 #include "core/version.hpp"
 
@@ -264,11 +266,21 @@ void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Pha
   }
 }
 
-void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points) {
+void read_phase_part(const h5::Group& g, std::size_t first, std::size_t total,
+                     std::span<Phase> points) {
   std::vector<double> column(points.size());
   for (int k = 0; k < 4; ++k) {
-    g.read_part<double>(std::string(phase_names[k]), first, column);
-    for (std::size_t i = 0; i < points.size(); ++i) points[i].*phase_members[k] = column[i];
+    const std::string name(phase_names[k]);
+    if (g.shape(name) != std::vector<hsize_t>{total})
+      throw Error(ExitCode::io, "HDF5: dataset " + g.path() + "/" + name + " does not hold " +
+                                    std::to_string(total) + " elements");
+    g.read_part<double>(name, first, column);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (!std::isfinite(column[i]))
+        throw Error(ExitCode::io, "HDF5: " + g.path() + "/" + name + " of orbit " +
+                                      std::to_string(first + i) + " is not finite");
+      points[i].*phase_members[k] = column[i];
+    }
   }
 }
 
@@ -309,9 +321,23 @@ void copy_phase(const h5::Group& from, const h5::Group& to, Rows rows) {
   for (std::size_t p = 0, parts = parts_of(rows.count); p < parts; ++p) {
     const auto [first, count] = part_of(p, rows.count);
     const auto points = std::span<Phase>(part).first(count);
-    read_phase_part(from, rows.first + first, points);
+    read_phase_part(from, rows.first + first, rows.total, points);
     write_phase_part(to, rows.first + first, points);
   }
+}
+
+void check_schema(const h5::Group& root, const std::string& path) {
+  if (!root.has_attr("schema_version"))
+    throw Error(ExitCode::io, "'" + path + "' is not a qmaps output file (no schema_version)");
+  const auto schema = root.attr_int64("schema_version");
+  if (schema != schema_version)
+    throw Error(ExitCode::io, "'" + path + "' has schema " + std::to_string(schema) +
+                                  (schema > schema_version ? ", newer than" : ", not") +
+                                  " the schema " + std::to_string(schema_version) + " qmaps " +
+                                  build::version + " reads" +
+                                  (root.has_attr("qmaps_version")
+                                       ? " (written by qmaps " + root.attr_string("qmaps_version") + ")"
+                                       : std::string()));
 }
 
 void write_build(const h5::Group& root) {
@@ -322,6 +348,21 @@ void write_build(const h5::Group& root) {
   root.attr("compiler_flags", build::engine_flags);
   root.attr("kernel_flags", build::kernel_flags);
 }
+
+namespace {
+
+// f on a thread of its own; where none can be made (ulimit -u, or -v short of its stack), on the
+// calling thread when its result is asked for: the same result, and no run lost at its end.
+template <class F>
+auto on_a_thread_if_possible(F f) {
+  try {
+    return std::async(std::launch::async, f);
+  } catch (const std::system_error&) {
+    return std::async(std::launch::deferred, f);
+  }
+}
+
+}  // namespace
 
 void write_run(const h5::Group& root, const RunRecord& run) {
   const Model& model = run.model;
@@ -335,7 +376,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   // need.
   std::vector<std::future<DriftHistogram>> drifts;
   for (std::size_t k = 0; k < model.invariant_names().size(); ++k)
-    drifts.push_back(std::async(std::launch::async, [&e, k] { return drift_histogram(e, k); }));
+    drifts.push_back(on_a_thread_if_possible([&e, k] { return drift_histogram(e, k); }));
 
   write_build(root);
   root.attr("map", std::string(model.name()));

@@ -18,6 +18,10 @@ namespace qmaps {
 
 inline constexpr std::int64_t schema_version = 1;
 
+// Refuses (io) a file of another schema than this qmaps writes: a newer one is never read as if
+// it were this one.
+void check_schema(const h5::Group& root, const std::string& path);
+
 // How /chaos reports the indicators (docs/chaos.md): an orbit is chaotic where its MEGNO ⟨Y⟩
 // exceeds the threshold; each indicator's histogram has `bins` bins over its range.
 struct ChaosReport {
@@ -96,7 +100,10 @@ inline constexpr std::size_t orbits_per_part = std::size_t{1} << 16;
 // The datasets q1, q2, p1, p2 of `g` for n orbits, written by parts.
 void create_phase(const h5::Group& g, std::size_t n);
 void write_phase_part(const h5::Group& g, std::size_t first, std::span<const Phase> points);
-void read_phase_part(const h5::Group& g, std::size_t first, std::span<Phase> points);
+// Reads points [first, first + points.size()) of a file's phase group, each of its datasets
+// exactly `total` long: another length, or a point that is not finite, is an io error.
+void read_phase_part(const h5::Group& g, std::size_t first, std::size_t total,
+                     std::span<Phase> points);
 // The parts of `count` rows, orbits_per_part at a time: as many on every rank (the most any rank
 // has), so that the collective writes of a shared file pair up; past its rows a rank's are empty.
 std::size_t parts_of(std::size_t count);

@@ -7,6 +7,7 @@
 #include "core/escape.hpp"
 #include "core/io/h5.hpp"
 #include "ensembles/io/file_orbits.hpp"
+#include "ensembles/io/output.hpp"
 
 namespace qmaps {
 namespace {
@@ -38,6 +39,7 @@ FromFile::FromFile(const Config& config, const Model& model) : model_(model) {
       throw Error(ExitCode::io, "'" + path_ +
                                     "' is not a qmaps output file (no schema_version, "
                                     "map or /initial)");
+    check_schema(root, path_);
     // The file's map and parameters against the run's.
     const std::string map = root.attr_string("map");
     std::vector<std::string> names, file_names;

@@ -12,6 +12,7 @@
 #include "core/io/h5.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/io/file_orbits.hpp"
+#include "ensembles/io/output.hpp"
 #include "ensembles/program/drift_summary.hpp"
 
 namespace qmaps {
@@ -106,6 +107,7 @@ int describe_sweep(const std::string& path, const h5::Group& root, std::ostream&
 int describe(const std::string& path, std::ostream& out) {
   const auto file = h5::File::open_read(path);
   const auto root = file.root();
+  check_schema(root, path);
   if (root.has("sweep") && root.has_attr("schema_version") && root.has_attr("map") &&
       root.has_attr("steps"))
     return describe_sweep(path, root, out);

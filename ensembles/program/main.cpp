@@ -167,6 +167,13 @@ int main(int argc, char** argv) {
   try {
     if (qmaps::ranks::count() > 1 && !*run_cmd)
       throw qmaps::usage_error("under mpirun, qmaps runs `qmaps run` alone");
+    // An option given empty is no option left out: `--out ""` names no file.
+    for (auto* out : {run_cmd->get_option("--out"), merge_cmd->get_option("--out")})
+      if (out->count() > 0 && out->as<std::string>().empty())
+        throw qmaps::usage_error("--out: the output's name is empty");
+    // A run's outcome is its files: a summary written to a closed pipe (qmaps run | head) fails
+    // as a write, never ends the process with the run's lock left behind.
+    if (*run_cmd || *merge_cmd) std::signal(SIGPIPE, SIG_IGN);
     if (*run_cmd) {
       for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
       return qmaps::run_command(run, errors);

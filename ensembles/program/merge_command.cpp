@@ -3,6 +3,8 @@
 // same resolved configuration, the same K, each of 1 … K once, each complete. Every shard is
 // read as a checkpoint is (its state, escapes, invariant tracking, observers, trajectories) and
 // placed at its orbits' offset; the run's file is then written from the whole ensemble.
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -26,38 +28,52 @@
 namespace qmaps {
 namespace {
 
+// A shard as the set's check reads it; its file is opened again when its orbits are read, one
+// shard at a time (a merge of thousands of shards holds one file open).
 struct ShardFile {
   std::string path;
-  h5::File file;
   Shard shard;
+  std::string config_resolved;
+  std::int64_t orbits_total = 0;
 };
 
 Error refused(const std::string& what) { return Error(ExitCode::usage, "qmaps merge: " + what); }
+
+// read() of the shard at `path`: a file error names the shard.
+template <class Read>
+void reading(const std::string& path, Read read) {
+  try {
+    read();
+  } catch (const Error& failure) {
+    if (failure.code() != ExitCode::io) throw;
+    throw Error(ExitCode::io, "'" + path + "': " + failure.what());
+  }
+}
 
 // The shards, checked to be every one of one run, ordered by k; any other set is refused.
 std::vector<ShardFile> shard_set(const std::vector<std::string>& paths) {
   std::vector<ShardFile> shards;
   for (const auto& path : paths) {
-    h5::File file = h5::File::open_read(path);
+    const h5::File file = h5::File::open_read(path);
     const auto root = file.root();
     if (!root.has_attr("shard") || !root.has_attr("config_resolved"))
       throw refused("'" + path + "' is not a shard file (it has no attribute shard)");
     if (root.has_attr("checkpoint_version"))
       throw refused("'" + path + "' is a shard's checkpoint: finish it with qmaps run --resume");
-    Shard shard;
-    try {
-      shard = Shard::parse(root.attr_string("shard"));
-    } catch (const Error& e) {
-      throw Error(ExitCode::io, "'" + path + "': attribute shard: " + e.what());
-    }
-    shards.push_back({path, std::move(file), shard});
+    reading(path, [&] {
+      Shard shard;
+      try {
+        shard = Shard::parse(root.attr_string("shard"));
+      } catch (const Error& e) {
+        throw Error(ExitCode::io, "attribute shard: " + std::string(e.what()));
+      }
+      shards.push_back({path, shard, root.attr_string("config_resolved"),
+                        root.attr_int64("orbits_total")});
+    });
   }
   const auto& first = shards.front();
-  const auto first_root = first.file.root();
   for (const auto& s : shards) {
-    const auto root = s.file.root();
-    if (root.attr_string("config_resolved") != first_root.attr_string("config_resolved") ||
-        root.attr_int64("orbits_total") != first_root.attr_int64("orbits_total"))
+    if (s.config_resolved != first.config_resolved || s.orbits_total != first.orbits_total)
       throw refused("'" + s.path + "' is a shard of another run than '" + first.path +
                     "' (their configurations differ)");
     if (s.shard.count != first.shard.count)
@@ -101,14 +117,28 @@ void check_memory(const Run& r, std::size_t orbits, std::size_t largest) {
   throw refused(text);
 }
 
+// The merged file is none of its shards, by name or by file.
+void refuse_an_input_as_output(const MergeOptions& options) {
+  struct stat out {};
+  const bool exists = ::stat(options.out.c_str(), &out) == 0;
+  for (const auto& path : options.shards) {
+    struct stat in {};
+    if (path == options.out ||
+        (exists && ::stat(path.c_str(), &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino))
+      throw refused("--out '" + options.out + "' is the shard '" + path +
+                    "' given to merge: name a file of its own");
+  }
+}
+
 }  // namespace
 
 int merge_command(const MergeOptions& options, std::ostream& log) {
+  check_output_name(options.out, "--out");
+  refuse_an_input_as_output(options);
   std::vector<ShardFile> shards = shard_set(options.shards);
-  const auto head = shards.front().file.root();
-  const Config config = Config::parse(head.attr_string("config_resolved"),
-                                      shards.front().path + " (config_resolved)");
-  const auto total = head.attr_int64("orbits_total");
+  const Config config =
+      Config::parse(shards.front().config_resolved, shards.front().path + " (config_resolved)");
+  const auto total = shards.front().orbits_total;
   if (total <= 0) throw Error(ExitCode::io, "'" + shards.front().path + "': attribute orbits_total is " + std::to_string(total));
   const auto orbits = static_cast<std::size_t>(total);
   RunOptions whole;
@@ -119,11 +149,14 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   for (const auto& s : shards) largest = std::max(largest, s.shard.size(orbits));
   check_memory(r, orbits, largest);
   r.path = options.out;
-  read_provenance(head, r);
+  reading(shards.front().path, [&] {
+    const h5::File head = h5::File::open_read(shards.front().path);
+    read_provenance(head.root(), r);
+  });
 
+  const OutputLock lock(r.path);  // first: a second run to this output is refused
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);
-  const OutputLock lock(r.path);
   const auto initial = r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
   if (initial) create_phase(*initial, orbits);
 
@@ -134,9 +167,11 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
       r.trajectories.size());
   std::string finished;
   for (const ShardFile& s : shards) {
-    const auto root = s.file.root();
+    const h5::File file = h5::File::open_read(s.path);
+    const auto root = file.root();
     const std::size_t first = s.shard.first(orbits), n = s.shard.size(orbits);
-    try {
+    reading(s.path, [&] {
+      check_record_of(root, r);
       if (root.attr_int64("orbits") != static_cast<std::int64_t>(n) ||
           root.attr_int64("shard_first") != static_cast<std::int64_t>(first))
         throw Error(ExitCode::io, "its orbits are not shard " + s.shard.name() + "'s " +
@@ -167,17 +202,14 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
         std::vector<Phase> points(std::min(n, orbits_per_part));
         for (std::size_t i = 0; i < n; i += orbits_per_part) {
           const auto some = std::span<Phase>(points).first(std::min(orbits_per_part, n - i));
-          read_phase_part(from, i, some);
+          read_phase_part(from, i, n, some);
           write_phase_part(*initial, first + i, some);
         }
       }
       r.rejected += static_cast<std::uint64_t>(root.attr_int64("rejected"));
       r.sessions += root.attr_string("sessions");
       finished = std::max(finished, root.attr_string("finished"));
-    } catch (const Error& failure) {
-      if (failure.code() != ExitCode::io) throw;
-      throw Error(ExitCode::io, "'" + s.path + "': " + failure.what());
-    }
+    });
   }
   e.step = r.plan.total;
   e.fill_padding();

@@ -1,3 +1,4 @@
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -70,6 +71,29 @@ int ending_every_rank_on_failure(const h5::AtomicFile& output, Work work) {
   }
 }
 
+// The output written after the last step: where it fails (a full disk, a rename the folder no
+// longer permits), the run's checkpoint is written instead, so that no stepping is lost.
+template <class Save, class Write>
+void keeping_the_work_on_failure(const Run& r, const std::string& checkpoint, Save save,
+                                 Write write) {
+  try {
+    write();
+  } catch (const Error& failure) {
+    if (failure.code() != ExitCode::io) throw;
+    const std::string resume = "; continue with: qmaps run --resume " + checkpoint;
+    try {
+      save();
+    } catch (const Error& also) {
+      throw Error(ExitCode::io, std::string(failure.what()) +
+                                    "; the run's checkpoint could not be written either: " +
+                                    also.what());
+    }
+    throw Error(ExitCode::io, std::string(failure.what()) + "; the run (step " +
+                                  std::to_string(r.plan.total) + ") is kept in its checkpoint " +
+                                  checkpoint + resume);
+  }
+}
+
 // Advances the ensemble to the last step in segments (exact: a segmented run equals one call),
 // writing a checkpoint every `checkpoint_every` steps and, on SIGINT, SIGTERM or SIGHUP, one
 // before it stops; then writes the output file and removes the checkpoint.
@@ -83,14 +107,16 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   const long long first = e.step;
   const std::string checkpoint = r.path + checkpoint_suffix;
   const auto initial = r.per_orbit ? std::optional(file.root().open_group("initial")) : std::nullopt;
-  const auto save = [&] {
+  // The checkpoint, its /initial copied from `from` (the output's, being written).
+  const auto save_from = [&](const h5::Group* from) {
     r.observers.finish();
     naming_failures(checkpoint, [&] {
       write_checkpoint(checkpoint,
                        record_of(r, e, first, session_started, utc_now(), options.command_line),
-                       initial ? &*initial : nullptr);
+                       from);
     });
   };
+  const auto save = [&] { save_from(initial ? &*initial : nullptr); };
 
   SelfSignal self_signal = SelfSignal::from_environment();
   const std::size_t orbits = r.shard ? r.orbits : r.total;  // the file's
@@ -102,7 +128,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   // Steps per segment: doubled or halved to take about 2 to 8 s (each segment is a pass over
   // the ensemble's memory; a signal waits for the segment's end).
   long long length = 1;
-  do {
+  while (e.step < r.plan.total) {
     RunPlan segment = r.plan;
     segment.first = e.step;
     segment.last = std::min(r.plan.total, e.step + length);
@@ -143,19 +169,32 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     if (r.checkpoint_every > 0 && e.step % r.checkpoint_every == 0) save();
     if (took < 2) length = std::min(2 * length, r.plan.total);
     else if (took > 8 && length > 1) length /= 2;
-  } while (e.step < r.plan.total);
+  }
   progress.end();
   const double seconds = progress.seconds();
 
   const auto writing_began = std::chrono::steady_clock::now();
   r.observers.finish();
-  naming_failures(r.path, [&] {  // an incomplete file is never committed
-    write_run(file.root(),
-              record_of(r, e, first, session_started, utc_now(), options.command_line));
-    if (r.shard) write_kept(file.root(), r.observers);  // for qmaps merge
-    file.close();
-  });
-  output.commit();
+  const auto write = [&] {
+    naming_failures(r.path, [&] {  // an incomplete file is never committed
+      write_run(file.root(),
+                record_of(r, e, first, session_started, utc_now(), options.command_line));
+      if (r.shard) write_kept(file.root(), r.observers);  // for qmaps merge
+      file.close();
+    });
+  };
+  // Over several ranks a write that fails on one rank alone ends them all
+  // (ending_every_rank_on_failure); the rename's failure is every rank's.
+  if (ranks::count() == 1) keeping_the_work_on_failure(r, checkpoint, save, write);
+  else write();
+  // The output is complete, and closed, at its temporary: the checkpoint's /initial is read back.
+  const auto save_after_writing = [&] {
+    if (!initial) return save_from(nullptr);
+    const auto written = h5::File::open_read(output.temporary());
+    const auto points = written.root().open_group("initial");
+    save_from(&points);
+  };
+  keeping_the_work_on_failure(r, checkpoint, save_after_writing, [&] { output.commit(); });
   if (ranks::root()) std::remove(checkpoint.c_str());
   const double writing = ranks::max(since(writing_began));
   const double stepping = ranks::max(seconds), started_in = ranks::max(starting);
@@ -207,6 +246,17 @@ void record_alone(Run& r, const InitialConditions& initial_conditions) {
   }
 }
 
+// A fresh run never replaces the checkpoint of an interrupted one: that is resumed, or removed
+// by the user.
+void refuse_an_unresumed_checkpoint(const std::string& output) {
+  const std::string checkpoint = output + checkpoint_suffix;
+  struct stat info {};
+  if (::lstat(checkpoint.c_str(), &info) == 0)
+    throw Error(ExitCode::io, "output '" + output + "' has the checkpoint '" + checkpoint +
+                                  "' of an interrupted run: continue it with qmaps run --resume " +
+                                  checkpoint + ", or remove it to start afresh");
+}
+
 int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
                    std::ostream& log) {
   if (!options.config_path.empty() || !options.sets.empty() || !options.out.empty())
@@ -249,6 +299,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
                                       "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
       r.path = path.substr(0, path.size() - suffix.size());
       read_provenance(root, r);
+      check_record_of(root, r);
       // The candidates rejected so far, counted once over the ranks.
       r.rejected = ranks::root() ? static_cast<std::uint64_t>(root.attr_int64("rejected")) : 0;
       r.rejects_points = root.attr_int64("rejected") > 0;  // the kind is not rebuilt on resumption
@@ -257,20 +308,21 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
   });
   Run& r = *run;
   const auto root = checkpoint->root();
-  h5::AtomicFile output(r.path);
-  auto file = output.create_hdf5(r.deflate);
-  std::optional<OutputLock> lock;
+  std::optional<OutputLock> lock;  // first: a second run to this output is refused
   on_every_rank([&] {
     if (ranks::root()) lock.emplace(r.path);
   });
+  h5::AtomicFile output(r.path);
+  auto file = output.create_hdf5(r.deflate);
   return ending_every_rank_on_failure(output, [&] {
     Ensemble e = r.model->ensemble(r.orbits);
     const Rows rows = r.shard ? Rows{} : Rows{r.first, r.orbits, r.total};
     reading([&] {
       read_ensemble(root, *r.model, e, rows);
-      if (e.step < 0 || e.step >= r.plan.total)
+      // A checkpoint at the last step is one the output's writing failed after (it is written).
+      if (e.step < 0 || e.step > r.plan.total)
         throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
-                                      std::to_string(r.plan.total) + ")");
+                                      std::to_string(r.plan.total) + "]");
       restore_observers(root, r.observers, rows);
       if (ranks::root()) read_trajectories(root, r.trajectories, r.plan.total);
       else
@@ -332,12 +384,14 @@ int run_command(const RunOptions& options, std::ostream& log) {
   r.started = started;
   if (ranks::count() > 1) on_every_rank([&] { check_same_run(r); });
 
+  std::optional<OutputLock> lock;  // first: a second run to this output is refused
+  on_every_rank([&] {
+    if (!ranks::root()) return;
+    lock.emplace(r.path);
+    refuse_an_unresumed_checkpoint(r.path);
+  });
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);  // fails now, not after the run
-  std::optional<OutputLock> lock;             // a second run to this output is refused
-  on_every_rank([&] {
-    if (ranks::root()) lock.emplace(r.path);
-  });
 
   return ending_every_rank_on_failure(output, [&] {
     // The orbits start by parts; /initial is written as they do, and no full copy is kept.

@@ -3,8 +3,10 @@
 #include <omp.h>
 
 #include <climits>
+#include <cstring>
 #include <cstdio>
 
+#include "core/error.hpp"
 #include "core/memory_limit.hpp"
 #include "core/ranks.hpp"
 #include "core/tangent_map.hpp"
@@ -143,6 +145,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
                                   : r.path + ".shard-" + std::to_string(r.shard->index) + "-of-" +
                                         std::to_string(r.shard->count);
   if (!options.write_to.empty()) r.path = options.write_to;
+  check_output_name(r.path, options.write_to.empty() ? config.where("output", "file") : "the output");
   // Every name the run derives from the output's must be legal before the run starts: the
   // longest is the checkpoint's temporary, "<name>.ckpt.tmp-<pid>".
   const auto slash = r.path.rfind('/');
@@ -182,6 +185,49 @@ void read_provenance(const h5::Group& root, Run& r) {
   r.config_text = root.attr_string("config");
   r.command_line = root.attr_string("command_line");
   r.started = root.attr_string("started");
+}
+
+void check_record_of(const h5::Group& root, const Run& r) {
+  const auto differ = [&](const std::string& attr, const std::string& has, const std::string& run) {
+    throw Error(ExitCode::io, "attribute " + attr + " is " + has +
+                                  ", but the run its configuration describes has " + run +
+                                  ": the file was altered, or is another run's");
+  };
+  const auto text = [&](const std::string& attr, const std::string& run) {
+    if (const std::string has = root.attr_string(attr); has != run) differ(attr, "'" + has + "'", "'" + run + "'");
+  };
+  const auto integer = [&](const std::string& attr, std::int64_t run) {
+    if (const auto has = root.attr_int64(attr); has != run)
+      differ(attr, std::to_string(has), std::to_string(run));
+  };
+  const auto number = [&](const std::string& attr, double run) {
+    const double has = root.attr_double(attr);  // the same bits: both come from one text
+    if (std::memcmp(&has, &run, sizeof has) != 0) differ(attr, number_text(has), number_text(run));
+  };
+  integer("schema_version", schema_version);
+  text("map", std::string(r.model->name()));
+  const auto specs = r.model->param_specs();
+  const auto values = r.model->param_values();
+  for (std::size_t k = 0; k < specs.size(); ++k)
+    number("param." + std::string(specs[k].name), values[k]);
+  integer("steps", r.plan.total);
+  integer("stride", r.plan.stride);
+  text("start", std::string(start_name(r.start)));
+  number("escape_bound", r.plan.escape_bound);
+  text("ensemble", r.kind);
+  integer("seed", static_cast<std::int64_t>(r.seed));
+}
+
+void check_output_name(const std::string& path, const std::string& where) {
+  if (path.empty()) throw usage_error(where + ": the output's name is empty");
+  if (const auto nul = path.find('\0'); nul != std::string::npos)
+    throw usage_error(where + ": the output's name has a NUL byte at position " +
+                      std::to_string(nul) + "; a file name cannot hold one");
+  const auto slash = path.rfind('/');
+  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
+  if (name.empty() || name == "." || name == "..")
+    throw usage_error(where + ": '" + path + "' names a folder; the output is a file in it (" +
+                      (name.empty() ? path : path + "/") + "run.h5, say)");
 }
 
 double memory_of(const Run& r) {

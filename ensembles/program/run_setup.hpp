@@ -67,6 +67,16 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
 // and when it started.
 void read_provenance(const h5::Group& root, Run& r);
 
+// Refuses (io) a file of the run (a checkpoint, a shard) whose own attributes contradict the run
+// `r` describes (from the file's configuration and provenance): its schema, map, parameters,
+// steps, stride, start rule, escape bound, ensemble kind and seed. A file altered, or pieced
+// together from two runs, is so refused before it is read.
+void check_record_of(const h5::Group& root, const Run& r);
+
+// Refuses (usage) an output name that cannot be a file's: empty, with a NUL byte, or naming a
+// folder (ending in '/', '.' or '..'); `where` names its key or option.
+void check_output_name(const std::string& path, const std::string& where);
+
 // The memory the run holds: its ensemble (padded), its observers with each thread's partial, its
 // trajectories.
 double memory_of(const Run& r);

@@ -73,9 +73,9 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
   check_memory(config, runs);
   const Run& first = runs.front();
 
+  const OutputLock lock(first.path);  // first: a second run to this output is refused
   h5::AtomicFile output(first.path);
   auto file = output.create_hdf5(first.deflate);
-  const OutputLock lock(first.path);
   const auto groups = create_sweep_runs(file.root(), points);
   std::vector<Ensemble> ensembles;
   std::uint64_t rejected = 0;
