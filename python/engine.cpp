@@ -5,7 +5,7 @@
 //   maps()      qmaps list's catalogue
 // qmaps::Error becomes the package's ConfigError (bad configuration or parameters), FileError
 // (a file that cannot be read or written), UnsupportedError (an ISA this CPU lacks) or Error; a
-// signal that stopped a run becomes KeyboardInterrupt.
+// signal (SIGINT, SIGTERM, SIGHUP) during a call stops it and becomes KeyboardInterrupt.
 #include <pybind11/functional.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -82,13 +82,19 @@ std::string run(const std::string& config_path, const std::string& config_text,
     };
   std::ostringstream log;
   int code = 0;
+  // Held over the whole call, so that a signal after the last step (while the file is written)
+  // is not lost when the run's own guard ends.
+  const qmaps::InterruptGuard interrupt;
   {
     const py::gil_scoped_release released;  // other Python threads run while this one steps
     code = qmaps::run_command(o, log);
   }
-  if (code == static_cast<int>(ExitCode::interrupted)) {
-    std::string message = log.str();
-    while (!message.empty() && message.back() == '\n') message.pop_back();
+  std::string message = log.str();
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  if (code == 0 && interrupt.requested())
+    message = std::string("qmaps: ") + qmaps::signal_name(interrupt.signal()) +
+              " while the run's file was written: stopped, nothing kept";
+  if (code == static_cast<int>(ExitCode::interrupted) || interrupt.requested()) {
     PyErr_SetString(PyExc_KeyboardInterrupt, message.c_str());
     throw py::error_already_set();
   }
@@ -129,6 +135,7 @@ py::tuple orbit(const std::string& map, const std::vector<std::string>& sets, co
     values.reserve(static_cast<std::size_t>(rows) * c.size());
   };
   {
+    const qmaps::InterruptGuard interrupt;  // a signal stops the orbit (orbit_rows looks)
     const py::gil_scoped_release released;
     escaped = qmaps::orbit_rows(o, take_columns, [&](std::span<const double> row) {
       values.insert(values.end(), row.begin(), row.end());

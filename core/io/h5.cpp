@@ -20,11 +20,16 @@
 namespace qmaps::h5 {
 namespace {
 
-// HDF5 prints its error stack by default; qmaps reports errors itself.
-const bool quiet = [] {
-  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  return true;
-}();
+// HDF5 prints its error stack by default, in each thread until told otherwise there (a
+// thread-safe build keeps the setting per thread); qmaps reports errors itself. Every file is
+// created or opened through quiet().
+void quiet() {
+  thread_local const bool silenced = [] {
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+    return true;
+  }();
+  (void)silenced;
+}
 
 Error failure(const std::string& what) { return Error(ExitCode::io, "HDF5: " + what); }
 
@@ -216,7 +221,8 @@ Handle& Handle::operator=(Handle&& o) noexcept {
 }
 
 void Handle::reset() {
-  if (id_ >= 0 && close_) close_(id_);
+  // A group or dataset closed already with its file (H5F_CLOSE_STRONG) is not closed again.
+  if (id_ >= 0 && close_ && H5Iis_valid(id_) > 0) close_(id_);
   id_ = H5I_INVALID_HID;
 }
 
@@ -388,6 +394,7 @@ namespace {
 // and not only when the last of its groups goes.
 // Shared: every rank's call, through MPI-IO.
 hid_t create_file(const std::string& path, bool shared = false) {
+  quiet();
   const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
   if (access.id() < 0 || H5Pset_fclose_degree(access.id(), H5F_CLOSE_STRONG) < 0) return -1;
   if (shared) {
@@ -420,6 +427,7 @@ void File::close() {
 
 File File::open_read(const std::string& path) {
   files::check_regular_input(path, "");
+  quiet();
   errno = 0;
   const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (id < 0 && (errno == EMFILE || errno == ENFILE))

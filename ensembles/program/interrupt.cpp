@@ -2,6 +2,7 @@
 
 #include <csignal>
 #include <cstdlib>
+#include <mutex>
 #include <string>
 
 #include "core/error.hpp"
@@ -26,9 +27,16 @@ extern "C" void on_signal(int sig) {
 constexpr int signals[3] = {SIGINT, SIGTERM, SIGHUP};
 struct sigaction previous[3];
 
+// Guards alive at once (runs in several threads of one process, nested calls): the first
+// installs the handlers, the last restores what was there before the first.
+std::mutex guarding;
+int guards = 0;
+
 }  // namespace
 
 InterruptGuard::InterruptGuard() {
+  const std::lock_guard lock(guarding);
+  if (guards++ > 0) return;
   received = 0;
   struct sigaction action {};
   action.sa_handler = on_signal;
@@ -37,6 +45,8 @@ InterruptGuard::InterruptGuard() {
 }
 
 InterruptGuard::~InterruptGuard() {
+  const std::lock_guard lock(guarding);
+  if (--guards > 0) return;
   for (int k = 0; k < 3; ++k) sigaction(signals[k], &previous[k], nullptr);
 }
 
@@ -47,14 +57,14 @@ const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";
 }
 
-Interrupted::Interrupted(int sig, const std::string& doing)
-    : Error(ExitCode::interrupted, std::string(signal_name(sig)) + " while " + doing +
-                                       ": stopped before the run began; nothing was written"),
+Interrupted::Interrupted(int sig, const std::string& doing, const std::string& outcome)
+    : Error(ExitCode::interrupted,
+            std::string(signal_name(sig)) + " while " + doing + ": " + outcome),
       signal_(sig) {}
 
-void stop_if_interrupted(const char* doing) {
+void stop_if_interrupted(const char* doing, const char* outcome) {
   if (received != 0) [[unlikely]]
-    throw Interrupted(received, doing);
+    throw Interrupted(received, doing, outcome);
 }
 
 SelfSignal SelfSignal::from_environment() {

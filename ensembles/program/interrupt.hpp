@@ -2,7 +2,8 @@
 // SIGINT, SIGTERM and SIGHUP during a run: the handler only records the first, which the run
 // reads between segments (where it writes a checkpoint and stops), and the start-up's long loops
 // read through stop_if_interrupted (where there is nothing to keep yet). A second signal ends the
-// process at once.
+// process at once. Guards may overlap (runs in several threads): a signal under any of them
+// stops every one, and the last to end restores the handlers found before the first.
 #include <string>
 
 #include "core/error.hpp"
@@ -25,7 +26,8 @@ const char* signal_name(int sig);  // "SIGINT", "SIGTERM", "SIGHUP"
 // written; main reports it and ends the process by that signal.
 class Interrupted : public Error {
  public:
-  Interrupted(int sig, const std::string& doing);
+  Interrupted(int sig, const std::string& doing,
+              const std::string& outcome = "stopped before the run began; nothing was written");
   int signal() const { return signal_; }
 
  private:
@@ -33,7 +35,9 @@ class Interrupted : public Error {
 };
 
 // Throws Interrupted if a signal arrived under an InterruptGuard; cheap enough for every draw.
-void stop_if_interrupted(const char* doing);
+void stop_if_interrupted(
+    const char* doing,
+    const char* outcome = "stopped before the run began; nothing was written");
 
 // A signal the run sends itself on reaching a step, so that an interruption can be reproduced
 // exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM, HUP or KILL), see docs/cli.md.

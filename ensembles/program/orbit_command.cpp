@@ -7,10 +7,13 @@
 #include "core/error.hpp"
 #include "ensembles/io/trajectories.hpp"
 #include "ensembles/program/commands.hpp"
+#include "ensembles/program/interrupt.hpp"
 #include "kernels/catalogue.hpp"
 
 namespace qmaps {
 namespace {
+
+constexpr long long orbit_chunk = 1 << 16;  // steps between two looks for a signal
 
 Phase parse_ic(const std::string& text) {
   std::istringstream in(text);
@@ -79,10 +82,17 @@ std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
     else values.insert(values.begin(), static_cast<double>(e.step));
     row(values);
     if (n >= o.steps) break;
-    plan.first = n;
-    plan.last = std::min(o.steps, n + o.every);
-    model->advance(e, plan, Execution{});
-    n = plan.last;
+    // In chunks (exact: a segmented advance equals one call), so that a signal under an
+    // InterruptGuard (the Python module's call) stops a long orbit at once.
+    const long long next = std::min(o.steps, n + o.every);
+    for (; n < next; n = plan.last) {
+      stop_if_interrupted(("stepping the orbit at step " + std::to_string(n) + " of " +
+                           std::to_string(o.steps)).c_str(),
+                          "stopped, no rows returned");
+      plan.first = n;
+      plan.last = std::min(next, n + orbit_chunk);
+      model->advance(e, plan, Execution{});
+    }
   }
   return "";
 }

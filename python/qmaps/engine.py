@@ -1,5 +1,6 @@
 """The engine in process: run(), orbit() and maps(), the qmaps program's run, orbit and list
 commands with numpy arrays in and out (docs/python.md)."""
+import operator
 import os
 import shutil
 import sys
@@ -9,7 +10,7 @@ import warnings
 import numpy as np
 
 from . import runfile, toml_text
-from .errors import ConfigError
+from .errors import ConfigError, FileError
 
 try:
     from . import _engine
@@ -62,6 +63,30 @@ def _points(initial):
     return np.ascontiguousarray(np.stack(columns, axis=1))
 
 
+def _integer(name, value, low, high, rule):
+    """`value` as an int in [low, high] (numpy integers too), or a ConfigError naming the
+    argument and the rule."""
+    try:
+        number = operator.index(value)
+    except TypeError:
+        raise ConfigError(f"{name}={value!r}: must be {rule}") from None
+    if isinstance(value, bool) or not low <= number <= high:
+        raise ConfigError(f"{name}={value!r}: must be {rule}")
+    return number
+
+
+def _run_folder(tmpdir):
+    """A new folder for the run's file, in `tmpdir` (None: the system's)."""
+    try:
+        return tempfile.mkdtemp(prefix="qmaps-run-", dir=tmpdir)
+    except OSError as e:
+        where = "the system's temporary folder" if tmpdir is None else f"tmpdir '{tmpdir}'"
+        why = {FileNotFoundError: "no such folder",
+               NotADirectoryError: "not a folder"}.get(type(e), e.strerror or str(e))
+        raise FileError(f"{where}: {why}: the run's file is written into a writable "
+                        "folder there") from e
+
+
 def _progress_callback(progress):
     if progress is None or progress is False:
         return None, None
@@ -110,13 +135,16 @@ def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(),
     for table, values in tables.items():
         if not isinstance(values, dict):
             raise TypeError(f"{table}=: a dict of keys, as {table}={{'key': value}}")
-        overrides += [f"{table}.{k}={toml_text.value(v)}" for k, v in values.items()]
+        overrides += [f"{table}.{k}={toml_text.value(v, f'{table}.{k}')}"
+                      for k, v in values.items()]
+    threads = _integer("threads", threads, 0, 2**31 - 1,
+                       "an integer >= 1, as --threads (or 0, the default: every core)")
     points = None if initial is None else _points(initial)
+    folder = _run_folder(tmpdir)
     callback, bar = _progress_callback(progress)
-    folder = tempfile.mkdtemp(prefix="qmaps-run-", dir=tmpdir)
     file = os.path.join(folder, "run.h5")
     try:
-        log = engine.run(path, text, source, overrides, file, int(threads), simd, points, callback,
+        log = engine.run(path, text, source, overrides, file, threads, simd, points, callback,
                          f"qmaps.run({path or source})")
         loaded = runfile.load(file)
     except BaseException:
@@ -141,9 +169,11 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
 
     An orbit that escapes ends its rows before the escape, with a RuntimeWarning saying when."""
     engine = _the_engine()
-    sets = [f"{k}={v!r}" for k, v in (params or {}).items()]
+    sets = [f"{k}={toml_text.value(v, f'params[{k!r}]')}" for k, v in (params or {}).items()]
     ic_text = ",".join(repr(float(x)) for x in ic) if not isinstance(ic, str) else ic
-    columns, table, escaped = engine.orbit(str(map), sets, ic_text, int(steps), int(every),
+    steps = _integer("steps", steps, 0, 2**63 - 1, "an integer >= 0")
+    every = _integer("every", every, 1, 2**63 - 1, "an integer >= 1")
+    columns, table, escaped = engine.orbit(str(map), sets, ic_text, steps, every,
                                            str(start), float(escape_bound), bool(chaos),
                                            None if energy is None else float(energy))
     if escaped:

@@ -15,6 +15,7 @@ import dataclasses
 import fnmatch
 import os
 import shutil
+import stat
 
 import h5py
 import numpy as np
@@ -48,7 +49,11 @@ class Datasets(collections.abc.MutableMapping):
         if name not in self._read:
             if name not in self._names:
                 raise KeyError(name)
-            self._read[name] = self._group[name][()]
+            try:
+                self._read[name] = self._group[name][()]
+            except OSError as e:  # a truncated or damaged file
+                raise FileError(f"{self._group.file.filename}: {self._group.name.rstrip('/')}/"
+                                f"{name} cannot be read: {_reason(e)}") from e
         return self._read[name]
 
     def __setitem__(self, name, value):
@@ -203,6 +208,10 @@ class Run(Group):
         """Writes the file, as it is, to `path`: under a temporary name first, renamed when
         complete, so that `path` is never a partial file."""
         path = os.fspath(path)
+        if not os.path.isfile(self.file):
+            raise FileError(f"cannot save to '{path}': the run's file '{self.file}' is gone" +
+                            (" (the run was closed, which removes it: save() before close())"
+                             if self.h5file is None else ""))
         temporary = f"{path}.tmp-{os.getpid()}"
         try:
             shutil.copyfile(self.file, temporary)
@@ -242,32 +251,71 @@ def _import(module, package):
         raise ImportError(f"{module} is needed for this (Debian: apt-get install {package})") from e
 
 
-def _load_group(h5group, group, skip):
+def _reason(e):
+    """An OSError of the system or of HDF5 in a few words."""
+    return os.strerror(e.errno) if getattr(e, "errno", None) else str(e)
+
+
+def _child(h5group, name, file):
+    """The group or dataset `name` of `h5group`; a link that leads nowhere is a FileError."""
+    child = h5group.get(name)
+    if child is None:
+        link = h5group.get(name, getlink=True)
+        target = (f"'{link.filename}:{link.path}'" if isinstance(link, h5py.ExternalLink)
+                  else f"'{getattr(link, 'path', '?')}'")
+        raise FileError(f"{file}: {h5group.name.rstrip('/')}/{name} is a link to {target} "
+                        "that leads to nothing: a run's groups and datasets must be there")
+    return child
+
+
+def _load_group(h5group, group, skip, file):
     for name, value in h5group.attrs.items():
         group.attrs[name] = _decode(value)
     names = []
-    for name, child in h5group.items():
-        path = child.name.lstrip("/")
+    for name in h5group:
+        child = _child(h5group, name, file)
+        path = f"{group.path.rstrip('/')}/{name}"
         if isinstance(child, h5py.Group):
-            group.groups[name] = _load_group(child, Group(child.name), skip)
-        elif not any(fnmatch.fnmatchcase(path, pattern) for pattern in skip):
+            group.groups[name] = _load_group(child, Group(path), skip, file)
+        elif not any(fnmatch.fnmatchcase(path.lstrip("/"), pattern) for pattern in skip):
             names.append(name)
     group.datasets = Datasets(h5group, names)
     return group
+
+
+def _regular_file(path):
+    """Raises FileError unless `path` is a regular file (a FIFO would hang the reader)."""
+    try:
+        mode = os.stat(path).st_mode
+    except FileNotFoundError:
+        raise FileError(f"{path}: no such file") from None
+    except OSError as e:
+        raise FileError(f"{path}: cannot be read: {_reason(e)}") from e
+    if stat.S_ISDIR(mode):
+        raise FileError(f"{path}: a folder, not a file: a run is an HDF5 file")
+    if not stat.S_ISREG(mode):
+        raise FileError(f"{path}: not a regular file (a FIFO, device or socket): a run is an "
+                        "HDF5 file")
 
 
 def load(path, skip=()):
     """The run in the file at `path`, opened lazily: attributes and the tree are read now, each
     dataset when first asked for. Datasets whose path (without the leading /) matches a pattern
     of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises FileError
-    when the file is missing, not HDF5 or not a qmaps run."""
+    when the file is missing, not a regular file, not HDF5 (or damaged) or not a qmaps run."""
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise FileError(f"{path}: no such file")
-    if not h5py.is_hdf5(path):
-        raise FileError(f"{path}: not an HDF5 file")
-    f = h5py.File(path, "r")
-    if "schema_version" not in f.attrs:
-        f.close()
-        raise FileError(f"{path}: not a qmaps run (no schema_version attribute)")
-    return _load_group(f, Run("/", file=path, h5file=f), skip)
+    _regular_file(path)
+    f = None
+    try:
+        if not h5py.is_hdf5(path):
+            raise FileError(f"{path}: not an HDF5 file")
+        f = h5py.File(path, "r")
+        if "schema_version" not in f.attrs:
+            raise FileError(f"{path}: not a qmaps run (no schema_version attribute)")
+        return _load_group(f, Run("/", file=path, h5file=f), skip, path)
+    except (FileError, OSError, KeyError) as e:
+        if f is not None:
+            f.close()
+        if isinstance(e, FileError):
+            raise
+        raise FileError(f"{path}: cannot be read as HDF5: {_reason(e)}") from e

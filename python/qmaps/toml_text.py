@@ -4,12 +4,19 @@ repr, the shortest text that does)."""
 import math
 import numbers
 
+from .errors import ConfigError
 
-def value(v):
-    """One TOML value."""
+
+def value(v, key="a configuration value"):
+    """One TOML value; `key` names it in a ConfigError."""
+    if hasattr(v, "tolist") and not isinstance(v, str):  # numpy: 0-d arrays and scalars too
+        return value(v.tolist(), key)
     if isinstance(v, bool):
         return "true" if v else "false"
     if isinstance(v, numbers.Integral):
+        if not -2**63 <= v < 2**63:
+            raise ConfigError(f"{key} = {v}: an integer must lie in TOML's 64 bits, "
+                              "-2**63 to 2**63 - 1")
         return str(int(v))
     if isinstance(v, numbers.Real):
         x = float(v)
@@ -22,11 +29,10 @@ def value(v):
     if isinstance(v, str):
         escaped = v.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n")
         return f'"{escaped}"'
-    if isinstance(v, (list, tuple)) or hasattr(v, "tolist"):
-        items = v.tolist() if hasattr(v, "tolist") else v
-        return "[" + ", ".join(value(x) for x in items) + "]"
-    raise TypeError(f"a configuration value must be a bool, number, string or list, "
-                    f"not {type(v).__name__} ({v!r})")
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(value(x, key) for x in v) + "]"
+    raise ConfigError(f"{key} = {v!r}: a configuration value must be a bool, number, string or "
+                      f"list, not {type(v).__name__}")
 
 
 def _key(k):
@@ -41,7 +47,7 @@ def _table(d, prefix, lines):
                                    all(isinstance(x, dict) for x in v)):
             tables.append((k, v))
         else:
-            lines.append(f"{_key(k)} = {value(v)}")
+            lines.append(f"{_key(k)} = {value(v, f'{prefix}.{k}' if prefix else str(k))}")
     for k, v in tables:
         name = f"{prefix}.{_key(k)}" if prefix else _key(k)
         if isinstance(v, dict):
