@@ -273,6 +273,29 @@ def test_save_after_close_names_the_missing_source(tmp_path):
     assert not target.exists()
 
 
+def test_save_never_replaces_a_device_fifo_folder_or_link(tmp_path):
+    run = qmaps.run(PRESET, **SMALL)
+    fifo, folder, link, target = (tmp_path / n for n in ("fifo.h5", "dir.h5", "link.h5", "t.h5"))
+    os.mkfifo(fifo)
+    folder.mkdir()
+    target.write_bytes(b"precious")
+    link.symlink_to(target)
+    for path, kind in ((fifo, "a FIFO"), (folder, "a directory"), (link, "a symbolic link")):
+        with pytest.raises(qmaps.FileError, match=f"'{path}': it is {kind}"):
+            run.save(path)
+    if os.geteuid() == 0:  # as root a replaced /dev/full would be the machine's
+        before = os.stat("/dev/full")
+        with pytest.raises(qmaps.FileError, match="it is a device"):
+            run.save("/dev/full")
+        assert os.stat("/dev/full").st_rdev == before.st_rdev
+    # A link planted under the temporary's name is not written through.
+    (tmp_path / f"new.h5.tmp-{os.getpid()}").symlink_to(target)
+    with pytest.raises(qmaps.FileError, match="cannot write"):
+        run.save(tmp_path / "new.h5")
+    assert target.read_bytes() == b"precious" and fifo.is_fifo() and link.is_symlink()
+    run.close()
+
+
 def test_threads_follow_the_rule_of_threads_option(tmp_path):
     r = small_run.qmaps(tmp_path, "run", PRESET, "--threads", "-1")
     assert r.returncode != 0 and "--threads" in r.stderr

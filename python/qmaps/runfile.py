@@ -36,6 +36,21 @@ def _decode(value):
     return value
 
 
+def _check_replaceable(path):
+    """Refuses (FileError) a `path` that exists but is not a regular file: a device, FIFO, folder
+    or link is never replaced by a saved file (`Run.save('/dev/null')`)."""
+    try:
+        mode = os.lstat(path).st_mode
+    except FileNotFoundError:
+        return
+    except OSError as e:
+        raise FileError(f"cannot write '{path}': {e.strerror or e}") from e
+    if not stat.S_ISREG(mode):
+        kind = ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode) else
+                "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else
+                "a symbolic link" if stat.S_ISLNK(mode) else "not a regular file")
+        raise FileError(f"cannot write '{path}': it is {kind}; save() replaces only a regular file")
+
 class Datasets(collections.abc.MutableMapping):
     """A group's datasets by name, each read from the file into a numpy array the first time it
     is asked for, and kept. An array assigned to a name replaces the file's in memory."""
@@ -212,13 +227,23 @@ class Run(Group):
             raise FileError(f"cannot save to '{path}': the run's file '{self.file}' is gone" +
                             (" (the run was closed, which removes it: save() before close())"
                              if self.h5file is None else ""))
+        _check_replaceable(path)
         temporary = f"{path}.tmp-{os.getpid()}"
+        made = False
         try:
-            shutil.copyfile(self.file, temporary)
+            # Created anew, never through a link planted under the temporary's name.
+            fd = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW |
+                         os.O_CLOEXEC, 0o644)
+            made = True
+            with os.fdopen(fd, "wb") as out, open(self.file, "rb") as source:
+                shutil.copyfileobj(source, out)
+            _check_replaceable(path)  # what the name holds now
             os.replace(temporary, path)
-        except OSError as e:
-            if os.path.exists(temporary):
+        except (OSError, FileError) as e:
+            if made and os.path.lexists(temporary):
                 os.remove(temporary)
+            if isinstance(e, FileError):
+                raise
             raise FileError(f"cannot write '{path}': {e.strerror or e}") from e
 
     def close(self):
