@@ -4,12 +4,14 @@ divides, with every kind of observer, trajectories across ranks and escaping orb
 single process's run, dataset for dataset and byte for byte, and records its ranks, threads and
 hosts; so does a gzip-compressed run and one without per-orbit datasets; a run interrupted under
 2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file,
-as does one stopped by SIGTERM sent to mpirun;
+as does one stopped by SIGTERM sent to mpirun (20 times on a loaded machine, each stop resumed by
+the next);
 a bad configuration or an unwritable output given to the last rank alone, or ranks given
 different configurations, end every rank with the message and nothing written; --shard is refused
 over several ranks. Skipped where qmaps-mpi (beside the qmaps binary) or mpirun is missing."""
 import os
 import pathlib
+import random
 import shutil
 import signal
 import subprocess
@@ -32,6 +34,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
 TIMEOUT = 300  # seconds, per process
 INTERRUPT = {"QMAPS_SIGNAL_AT_STEP": "60:INT"}
+SIGNALS = 20  # SIGTERMs sent to mpirun, each to a run resumed from the previous one's checkpoint
 TRAJECTORIES = """
 [[trajectory]]
 name = "across"
@@ -178,33 +181,53 @@ class Mpi(unittest.TestCase):
                         self.assertEqual(f.attrs["ranks"], then)
 
     def test_a_signal_to_mpirun_checkpoints_every_rank(self):
-        """SIGTERM sent to mpirun itself, as a batch system ends a job, reaches every rank: they
-        stop at the same segment's end and write one checkpoint. mpirun's own status is then
-        OpenMPI's (not 0; the ranks exit with 5). The run resumed equals the one never stopped."""
+        """SIGTERM sent to mpirun itself, as a batch system ends a job: mpirun passes it on to the
+        ranks 1 s later and SIGKILLs them 1 s after that. Sent SIGNALS times, at random times, to
+        a run on a machine loaded by a busy process per core, each time resuming the previous
+        checkpoint: every time, the ranks stop within their grace and write one checkpoint
+        further on. mpirun's own status is then OpenMPI's (not 0; the ranks exit with 5). The
+        last checkpoint equals the one the run never stopped writes at the same step."""
         d = self.fresh()
         (d / "p.toml").write_text(small_run.PRESET.read_text())
-        run = [BINARY, "run", "p.toml", "--set", "ensemble.orbits=5000", "--set",
-               "run.steps=1000000", "--quiet"]
-        r = launch([*run, "--threads", "2", "--out", "alone.h5"], d)
-        self.assertEqual(r.returncode, 0, r.stderr)
-        command = [MPIRUN, "--oversubscribe", "-np", "2", *run, "--threads", "1", "--out", "out.h5"]
-        with subprocess.Popen(list(map(str, command)), cwd=d, env={**os.environ, **MPI_ENV},
-                              text=True, stderr=subprocess.PIPE, start_new_session=True) as p:
-            # Once the ranks have made the output's temporary, they answer a signal with a
-            # checkpoint (before, during MPI's start-up, it would only end them).
-            for _ in range(600):
-                if list(d.glob("out.h5.tmp-*")) or p.poll() is not None:
-                    break
-                time.sleep(0.1)
-            time.sleep(0.5)
-            p.send_signal(signal.SIGTERM)
-            _, err = p.communicate(timeout=TIMEOUT)
-        self.assertNotEqual(p.returncode, 0, err)
-        self.assertIn("checkpoint written to out.h5.ckpt", err)
-        self.assert_nothing_written(d, "out.h5")
-        r = mpirun(d, (2, [BINARY, "run", "--resume", "out.h5.ckpt", "--threads", "1", "--quiet"]))
-        self.assertEqual(r.returncode, 0, r.stderr)
-        self.assert_same_datasets(d / "out.h5", d / "alone.h5")
+        run = [BINARY, "run", "p.toml", "--set", "ensemble.orbits=2000", "--set",
+               "run.steps=100000000", "--quiet"]
+        resume = [BINARY, "run", "--resume", "out.h5.ckpt", "--quiet"]
+        delays = random.Random(36).choices([0.2, 0.7, 1.2, 1.7, 2.2], k=SIGNALS)
+        busy = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
+                for _ in range(os.cpu_count() or 1)]
+        step = 0
+        try:
+            for trial, delay in enumerate(delays):
+                command = [MPIRUN, "--oversubscribe", "-np", "2",
+                           *(resume if trial else [*run, "--out", "out.h5"]), "--threads", "1"]
+                with subprocess.Popen(list(map(str, command)), cwd=d, text=True,
+                                      env={**os.environ, **MPI_ENV}, stderr=subprocess.PIPE,
+                                      start_new_session=True) as p:
+                    # Once the ranks have made the output's temporary, they answer a signal with
+                    # a checkpoint (before, during MPI's start-up, it would only end them).
+                    for _ in range(600):
+                        if list(d.glob("out.h5.tmp-*")) or p.poll() is not None:
+                            break
+                        time.sleep(0.1)
+                    time.sleep(delay)
+                    p.send_signal(signal.SIGTERM)
+                    _, err = p.communicate(timeout=TIMEOUT)
+                with self.subTest(trial=trial, delay=delay):
+                    self.assertNotEqual(p.returncode, 0, err)
+                    self.assertIn("checkpoint written to out.h5.ckpt", err)
+                    self.assert_nothing_written(d, "out.h5")
+                    with h5py.File(d / "out.h5.ckpt") as f:
+                        reached = int(f["final/state"].attrs["step"])
+                    self.assertGreater(reached, step)
+                    step = reached
+        finally:
+            for b in busy:
+                b.kill()
+                b.wait()
+        r = launch([*run, "--threads", "2", "--out", "alone.h5"], d,
+                   {"QMAPS_SIGNAL_AT_STEP": f"{step}:TERM"})
+        self.assertEqual(r.returncode, 5, r.stderr)
+        self.assert_same_datasets(d / "out.h5.ckpt", d / "alone.h5.ckpt")
 
     def test_a_bad_configuration_on_the_last_rank_ends_every_rank(self):
         bad = {"speed": ("[run]\n", "[run]\nspeed = 3\n"),  # an unknown key

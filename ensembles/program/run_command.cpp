@@ -125,8 +125,12 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
-  // Steps per segment: doubled or halved to take about 2 to 8 s (each segment is a pass over
-  // the ensemble's memory; a signal waits for the segment's end).
+  // Steps per segment: doubled or halved to take about 0.1 to 0.4 s, since a signal waits for
+  // the segment's end and mpirun SIGKILLs the ranks 1 s after it passes a SIGTERM on
+  // (docs/cli.md). But each segment is one more pass over the ensemble's memory (about 10 steps'
+  // cost for the Suris preset, whatever the orbit count): a segment also takes at least
+  // min_segment_steps steps where that lasts under 2 s (a large ensemble's), and never over 8 s.
+  constexpr long long min_segment_steps = 256;
   long long length = 1;
   while (e.step < r.plan.total) {
     RunPlan segment = r.plan;
@@ -167,8 +171,10 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
       return static_cast<int>(ExitCode::interrupted);
     }
     if (r.checkpoint_every > 0 && e.step % r.checkpoint_every == 0) save();
-    if (took < 2) length = std::min(2 * length, r.plan.total);
-    else if (took > 8 && length > 1) length /= 2;
+    const bool few = length < min_segment_steps;
+    if (took < 0.1 || (few && took < 2)) length = std::min(2 * length, r.plan.total);
+    else if ((took > 0.4 && length > min_segment_steps) || (took > 8 && length > 1))
+      length /= 2;
   }
   progress.end();
   const double seconds = progress.seconds();
