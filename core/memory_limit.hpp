@@ -1,7 +1,7 @@
 #pragma once
-// The memory a run may use: the least of the machine's RAM, the address-space limit
-// (RLIMIT_AS, `ulimit -v`) and the cgroup's memory.max, where they are set. Sizes are checked
-// against it before anything is allocated.
+// The memory a run may use: the least of the machine's RAM, what the address-space limit
+// (RLIMIT_AS, `ulimit -v`) leaves beside what the process has mapped already, and the cgroup's
+// memory.max, where they are set. Sizes are checked against it before anything is allocated.
 #include <string>
 
 namespace qmaps {

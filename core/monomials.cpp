@@ -8,9 +8,13 @@ namespace qmaps {
 
 double Monomials::count(std::size_t variables, long long degree) {
   const double n = static_cast<double>(variables);
-  if (degree > 1000) {
+  if (degree > 1000) {  // C(n + d, n) = Π_{k=1…n} (d + k)/k: n factors, for any d (no lgamma
+                        // difference, which cancels to 0 for d near 2^63)
     const double d = static_cast<double>(degree);
-    return std::exp(std::lgamma(n + d + 1) - std::lgamma(d + 1) - std::lgamma(n + 1)) - 1;
+    double c = 1;
+    for (std::size_t k = 1; k <= variables; ++k)
+      c = c * (d + static_cast<double>(k)) / static_cast<double>(k);
+    return c - 1;
   }
   // C(n + d, d) = Π_{k=1…d} (n + k)/k, exact in doubles while it stays below 2^53.
   double c = 1;

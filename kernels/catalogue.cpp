@@ -1,6 +1,7 @@
 #include "kernels/catalogue.hpp"
 
 #include <array>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -35,13 +36,13 @@ const auto& maps() {
 }  // namespace
 
 std::optional<double> number_in(const std::string& text) {
-  std::size_t used = 0;
-  try {
-    const double value = std::stod(text, &used);
-    if (used == text.size()) return value;
-  } catch (const std::exception&) {
-  }
-  return std::nullopt;
+  // strtod, not stod: a number beyond the range of a double (a subnormal such as 1e-320, or
+  // 1e400 read as inf) is still a number, for the parameter's own rule to judge.
+  if (text.empty()) return std::nullopt;
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (end != text.c_str() + text.size()) return std::nullopt;
+  return value;
 }
 
 ParamValues parse_params(const std::vector<std::string>& sets) {

@@ -32,7 +32,8 @@ struct ChaosOptions {
 
 std::span<const MapEntry> catalogue();
 
-// The number that is the whole of `text`, if it is one.
+// The number that is the whole of `text`, if it is one: a subnormal stays one, a number beyond
+// the largest double reads as ±inf (each parameter's own rule then says why it is refused).
 std::optional<double> number_in(const std::string& text);
 // Map parameters from "name=value" items (--set of `orbit` and `check`).
 ParamValues parse_params(const std::vector<std::string>& sets);

@@ -14,6 +14,7 @@
 //   I1 = (v1−u1)² + 2Ah² u1v1 + g u1²v1² + g a²(X−Y)²/(a²−b²) + 2g a XY/(a+b), X = v1u2, Y = u1v2.
 //   A = B: L = u1v2 − v1u2 = Y − X instead of I1, I2 (the discrete angular momentum).
 #include <array>
+#include <cmath>
 #include <span>
 #include <string>
 #include <string_view>
@@ -78,10 +79,22 @@ struct Suris : TwoStep<Suris> {
     Coeffs c{A, B, alpha, h, 2 * a, 2 * b, g, 0.5 / h2, 2 - 2 * a, 2 - 2 * b,
              (1 - a) / h2, (1 - b) / h2, g / (2 * h2), 0, 0, 0, 0, A != B};
     if (c.has_I12) {  // a² − b² = (a − b)(a + b), with a − b exact
+      // I1 and I2 divide by a² − b²: where it rounds to 0 (|A − B| h² below about 2.2e-16, e.g.
+      // h <= 1e-9, or A one ulp from B) or the quotients overflow, they cannot be evaluated.
+      if (a == b || a == -b)
+        throw usage_error("suris: A != B but (1 - A h^2)^2 - (1 - B h^2)^2 = 0 in double "
+                          "precision (as when |A - B| h^2 < 2.2e-16): I1 and I2 divide by it "
+                          "and cannot be evaluated; take A = B (invariants H, L), or A and B "
+                          "further apart, or a larger h");
       c.k1 = g * a * a / ((a - b) * (a + b));
       c.k2 = g * b * b / ((b - a) * (a + b));
       c.kx1 = 2 * g * a / (a + b);
       c.kx2 = 2 * g * b / (a + b);
+      if (!std::isfinite(c.k1) || !std::isfinite(c.k2) || !std::isfinite(c.kx1) ||
+          !std::isfinite(c.kx2))
+        throw usage_error("suris: the coefficients of I1 and I2, 2 alpha h^2 a^2/(a^2 - b^2) "
+                          "with a = 1 - A h^2, b = 1 - B h^2, overflow: I1 and I2 cannot be "
+                          "evaluated; take A = B, or A and B further apart, or a smaller alpha");
     }
     return c;
   }

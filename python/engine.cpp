@@ -70,6 +70,7 @@ std::string run(const std::string& config_path, const std::string& config_text,
   o.sets = sets;
   o.write_to = write_to;
   o.threads = threads;
+  o.threads_given_as = "threads=";
   o.simd = simd;
   o.quiet = true;
   o.command_line = command_line;

@@ -11,6 +11,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -156,6 +158,10 @@ TEST(Discover, MonomialsCountAndOrder) {
   EXPECT_EQ(m.size(), 69u);
   EXPECT_EQ(Monomials::count(4, 4), 69.0);
   EXPECT_EQ(Monomials::count(4, 8), 494.0);
+  // Beyond degree 1000 the count is a product of n factors: huge for any degree up to 2^63 − 1
+  // (a difference of lgammas cancelled to 0 there, and the count came out negative).
+  EXPECT_EQ(Monomials::count(4, 2000), 2004.0 * 2003 * 2002 * 2001 / 24 - 1);
+  EXPECT_GT(Monomials::count(4, std::numeric_limits<long long>::max()), 1e70);
   const std::vector<std::string> names = {"q1", "q2", "p1", "p2"};
   EXPECT_EQ(m.text(0, names), "q1");
   EXPECT_EQ(m.text(4, names), "q1^2");
@@ -192,6 +198,11 @@ TEST(DiscoverCli, BadInputIsAUsageError) {
   const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
       {{"--degree", "0", "--steps", "10"}, "--degree must be >= 1"},
       {{"--degree", "40", "--steps", "10"}, "monomials of the 4 variables; at most"},
+      {{"--degree", "9223372036854775807", "--steps", "10"}, "monomials of the 4 variables"},
+      // Orbits below the escape bound whose monomials overflow give no rows: said as such.
+      {{"--degree", "4", "--steps", "10", "--set", "ensemble.q1=[1e100, 1e101]", "--set",
+        "run.escape_bound=1e300"},
+       "(0 of 100 escaped; 1000 steps left out, their monomials beyond the largest double)"},
       {{"--degree", "4", "--steps", "10", "--orbits", "2"}, "too few rows: 2 orbits x 10 steps"},
       {{"--degree", "4", "--steps", "10", "--set", "map.name=nomap"}, "nomap"},
   };
@@ -204,6 +215,35 @@ TEST(DiscoverCli, BadInputIsAUsageError) {
     EXPECT_TRUE(Contains(r.err, message));
     EXPECT_EQ(r.out, "");
   }
+}
+
+// A flow's shell of one energy lies on the level set H = E: every (H − E)·g vanishes on the data
+// and would be printed as an invariant (71 of them at degree 8); discover refuses, naming H.
+TEST(DiscoverCli, RefusesOrbitsOnOneLevelSetOfAnInvariant) {
+  TempDir dir;
+  std::ofstream(dir / "shell.toml") << R"([map]
+name = "flow"
+A = 0.7
+B = 0.3
+alpha = 0.9
+beta = 0.9
+delta = 1.8
+h = 0.02
+
+[ensemble]
+kind = "shell"
+energy = 0.1
+orbits = 100
+q1 = [-0.3, 0.3]
+q2 = [-0.3, 0.3]
+p1 = [-0.3, 0.3]
+)";
+  const Result r = run({"discover", dir / "shell.toml", "--degree", "6", "--steps", "50"}, dir);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_TRUE(Contains(r.err, "the 100 orbits lie on one level set of the map's invariant H "
+                              "(H = 0.1 on every orbit, to "));
+  EXPECT_TRUE(Contains(r.err, "give orbits spread over H's values"));
+  EXPECT_EQ(r.out, "");
 }
 
 }  // namespace

@@ -41,6 +41,19 @@ TEST(Suris, RejectsInvalidParametersNamingTheProblem) {
   expect_usage_error({}, "missing");
 }
 
+// Where (1 − Ah²)² − (1 − Bh²)² rounds to 0 with A ≠ B, I1 and I2 would divide by zero (every
+// orbit's I1 NaN): such parameters are refused; A = B (H and L) stays valid at any h.
+TEST(Suris, RefusesParametersWhereI1AndI2CannotBeEvaluated) {
+  const std::string rule = "I1 and I2 divide by it";
+  expect_usage_error({{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 1e-9}}, rule);
+  expect_usage_error({{"A", 0.7}, {"B", std::nextafter(0.7, 1.0)}, {"alpha", 0.9}, {"h", 0.1}},
+                     rule);
+  expect_usage_error({{"A", 0.5}, {"B", 1.5}, {"alpha", 0.9}, {"h", 1.0}}, rule);  // a = −b
+  expect_usage_error({{"A", 0.7}, {"B", 0.3}, {"alpha", 1e308}, {"h", 1.0}}, "overflow");
+  EXPECT_NO_THROW(make_model("suris", {{"A", 0.7}, {"B", 0.7}, {"alpha", 0.9}, {"h", 1e-9}}));
+  EXPECT_NO_THROW(make_model("suris", {{"A", 0.7}, {"B", 0.3}, {"alpha", 0.9}, {"h", 1e-7}}));
+}
+
 TEST(Suris, UnknownMapIsUsageErrorListingKnownMaps) {
   try {
     make_model("surix", {});

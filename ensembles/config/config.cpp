@@ -70,6 +70,7 @@ Config::Config(const Config& other)
       text_(other.text_),
       source_(other.source_),
       overridden_(other.overridden_),
+      lines_(other.lines_),
       used_(other.used_),
       used_sections_(other.used_sections_) {}
 
@@ -130,14 +131,34 @@ Config Config::parse(std::string_view text, std::string source) {
     if (!value.is_table() && !value.is_array_of_tables())
       throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": '" +
                         std::string(name.str()) + "' must be a [section] or [[table array]]");
+  // The lines, kept apart from the document: a copy of a TOML node has no source (a sweep's
+  // points are copies), and messages must still name the line.
+  const auto keep = [&c](const std::string& section, const toml::table& t) {
+    c.lines_[section] = t.source().begin.line;
+    for (const auto& [key, v] : t) c.lines_[dotted(section, key.str())] = v.source().begin.line;
+  };
+  for (const auto& [name, value] : c.doc_->table) {
+    const std::string section(name.str());
+    c.lines_[section] = value.source().begin.line;
+    if (const auto* array = value.as_array())
+      for (std::size_t i = 0; i < array->size(); ++i)
+        keep(section + "[" + std::to_string(i) + "]", *(*array)[i].as_table());
+    else
+      keep(section, *value.as_table());
+  }
   return c;
+}
+
+std::size_t Config::line_of(const std::string& name) const {
+  const auto at = lines_.find(name);
+  return at == lines_.end() ? 0 : at->second;
 }
 
 Config Config::load(const std::string& path) {
   return parse(files::read_regular_file(path, max_config_bytes, "config file"), path);
 }
 
-void Config::set(std::string_view assignment) {
+void Config::set(std::string_view assignment, bool by_user) {
   const auto eq = assignment.find('=');
   const auto dot = assignment.find('.');
   if (eq == std::string_view::npos || dot == std::string_view::npos || dot > eq || dot == 0 ||
@@ -154,6 +175,13 @@ void Config::set(std::string_view assignment) {
     check_size(value, "--set " + section + "." + key);
     parsed = toml::parse("v = " + value);
   } catch (const toml::parse_error&) {
+    // Nineteen digits or more that TOML does not read are an integer beyond its 64 bits, not a
+    // bare string.
+    const std::size_t sign = !value.empty() && (value[0] == '+' || value[0] == '-');
+    if (value.size() >= sign + 19 &&
+        value.find_first_not_of("0123456789", sign) == std::string::npos)
+      throw usage_error("--set " + section + "." + key + "=" + value +
+                        ": an integer must be -2^63 to 2^63 - 1 (9223372036854775807)");
     parsed = toml::table{{"v", value}};
   }
   toml::table* target = nullptr;
@@ -187,7 +215,7 @@ void Config::set(std::string_view assignment) {
     target = doc_->table[section].as_table();
   }
   target->insert_or_assign(key, std::move(*parsed.get("v")));
-  overridden_.insert(dotted(section, key));
+  if (by_user) overridden_.insert(dotted(section, key));
 }
 
 const toml::node* Config::Document::find(const Config& c, std::string_view section,
@@ -210,7 +238,8 @@ const toml::node& Config::Document::node(const Config& c, std::string_view secti
   if (s)
     for (const auto& [other, value] : *s)
       if (!c.used_.count(dotted(section, other.str())) && edits(other.str(), key) <= 2)
-        throw usage_error(c.source_ + ":" + std::to_string(value.source().begin.line) + ": [" +
+        throw usage_error(c.source_ + ":" +
+                          std::to_string(c.line_of(dotted(section, other.str()))) + ": [" +
                           std::string(section) + "] unknown key '" + std::string(other.str()) +
                           "' (did you mean '" + std::string(key) + "'?)");
   throw usage_error(c.source_ + ": missing key '" + std::string(key) + "' in [" +
@@ -229,24 +258,28 @@ bool Config::has_section(std::string_view section) const {
 std::string Config::where(std::string_view section, std::string_view key) const {
   const std::string name = dotted(section, key);
   if (overridden_.count(name)) return "--set " + name;
-  const auto* s = doc_->section_table(section);
-  const auto* n = s ? s->get(key) : nullptr;
-  const auto line = n ? n->source().begin.line : (s ? s->source().begin.line : 0);
+  // The key's line, else its table's (a key the file lacks).
+  const auto line = lines_.count(name) ? line_of(name) : line_of(std::string(section));
   return source_ + ":" + std::to_string(line) + ": [" + std::string(section) + "] " +
          std::string(key);
 }
 
 std::string Config::where(std::string_view section) const {
   if (const auto set = set_in(section)) return "--set " + *set + ": [" + std::string(section) + "]";
-  const auto* s = doc_->section_table(section);
-  return source_ + ":" + std::to_string(s ? s->source().begin.line : 0) + ": [" +
-         std::string(section) + "]";
+  std::string text = source_ + ":" + std::to_string(line_of(std::string(section))) + ": [" +
+                     std::string(section) + "]";
+  // A message about the table as a whole may be about a value --set gave it: name those too.
+  const std::string prefix = std::string(section) + ".";
+  std::string sets;
+  for (const auto& name : overridden_)
+    if (name.compare(0, prefix.size(), prefix) == 0) sets += (sets.empty() ? "" : ", ") + name;
+  return sets.empty() ? text : text + " with --set " + sets;
 }
 
 std::optional<std::string> Config::set_in(std::string_view section) const {
   // A table the file lacks and --set made: its source has no line.
   const auto* s = doc_->section_table(section);
-  if (s && s->source().begin.line != 0) return std::nullopt;
+  if (s && line_of(std::string(section)) != 0) return std::nullopt;
   const std::string prefix = std::string(section) + ".";
   for (const auto& name : overridden_)
     if (name.compare(0, prefix.size(), prefix) == 0) return name;
@@ -387,7 +420,7 @@ void Config::reject_unknown() const {
     const std::string name(section.str());
     if (!used_sections_.count(name)) {
       if (const auto set = set_in(name)) throw usage_error("--set " + *set + ": unknown section [" + name + "]");
-      throw usage_error(source_ + ":" + std::to_string(value.source().begin.line) +
+      throw usage_error(source_ + ":" + std::to_string(line_of(name)) +
                         ": unknown section [" + name + "]");
     }
     const auto check = [&](const toml::table& t, const std::string& path) {

@@ -5,6 +5,7 @@
 // A section argument "name" is a [name] table; "name[i]" the i-th table of an array [[name]].
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -30,7 +31,9 @@ class Config {
   // "section.key=value": value is read as a TOML value (number, string, array, boolean), and
   // as a bare string when it is not one, so --set output.file=run.h5 needs no quotes. The section
   // "name[i]" is the i-th table (from 0) of an array of tables [[name]], e.g. histogram[0].bins.
-  void set(std::string_view assignment);
+  // `by_user` false: a value qmaps itself gives (a sweep's point), which messages do not name as
+  // a --set.
+  void set(std::string_view assignment, bool by_user = true);
 
   bool has(std::string_view section, std::string_view key) const;
   bool has_section(std::string_view section) const;  // a [section] table, perhaps empty
@@ -76,6 +79,9 @@ class Config {
   std::string text_;
   std::string source_;
   std::set<std::string> overridden_;
+  // The file's line of each "section", "name[i]" and "section.key" (0: not in the file).
+  std::map<std::string, std::size_t> lines_;
+  std::size_t line_of(const std::string& name) const;
   mutable std::set<std::string> used_;
   mutable std::set<std::string> used_sections_;
 };

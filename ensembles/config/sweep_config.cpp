@@ -172,7 +172,8 @@ Config Sweep::config_of(const Config& config, std::size_t point) const {
   const auto values = parameters(point);
   for (const auto& axis : axes_) {
     const auto at = std::find(names_.begin(), names_.end(), axis.numerator) - names_.begin();
-    out.set("map." + axis.numerator + "=" + number_text(values[static_cast<std::size_t>(at)]));
+    out.set("map." + axis.numerator + "=" + number_text(values[static_cast<std::size_t>(at)]),
+            false);
   }
   return out;
 }

@@ -19,7 +19,8 @@ std::string run_name(std::size_t k, std::size_t points) {
 }
 
 // The largest relative drift max|I_n − I_0|/|I_0| (absolute where I_0 = 0) of any invariant over
-// the orbits that never escaped; NaN when every orbit escaped.
+// the orbits that never escaped; NaN when every orbit escaped, or when an orbit's invariant is not
+// a number (never a number below the drift that cannot be measured).
 double worst_drift(const Model& model, const Ensemble& e) {
   std::vector<std::uint8_t> bounded(e.orbits);
   for (std::size_t i = 0; i < e.orbits; ++i) bounded[i] = e.escape_step[i] < 0;
@@ -27,6 +28,7 @@ double worst_drift(const Model& model, const Ensemble& e) {
   for (std::size_t k = 0; k < model.invariant_names().size(); ++k) {
     const DriftSummary drift(e.invariant_initial[k].span().first(e.orbits),
                              e.invariant_max_drift[k].span().first(e.orbits), bounded);
+    if (drift.not_numbers()) return std::numeric_limits<double>::quiet_NaN();
     const double d = drift.percentile(1);
     if (!std::isnan(d)) worst = std::isnan(worst) ? d : std::max(worst, d);
   }

@@ -9,7 +9,7 @@ constexpr std::uint64_t box_stream = 0x626f78;  // "box"
 
 Box::Box(const Config& config) : seed_(seed_of(config)), orbits_(orbits_of(config)) {
   for (int k = 0; k < 4; ++k)
-    ranges_[k] = config.range("ensemble", phase_names[static_cast<std::size_t>(k)]);
+    ranges_[k] = range_of(config, phase_names[static_cast<std::size_t>(k)]);
 }
 
 Drawn Box::draw(std::size_t orbit) const {

@@ -1,5 +1,6 @@
 #include "ensembles/kinds/ensemble_kind.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "core/error.hpp"
@@ -29,6 +30,17 @@ std::uint64_t seed_of(const Config& config) {
   const long long seed = config.integer_or("ensemble", "seed", 0);
   if (seed < 0) throw usage_error(config.where("ensemble", "seed") + " must be >= 0");
   return static_cast<std::uint64_t>(seed);
+}
+
+std::array<double, 2> range_of(const Config& config, std::string_view key) {
+  const auto range = config.range("ensemble", key);
+  // lo + (hi − lo)·u is monotone in u under rounding: its largest value is below lo + (hi − lo).
+  const double width = range[1] - range[0];
+  if (!std::isfinite(width) || !std::isfinite(range[0] + width))
+    throw usage_error(config.where("ensemble", key) + " = " + range_text(range) +
+                      ": its width hi - lo overflows; a range must have a finite width, so that "
+                      "every point drawn in it is finite");
+  return range;
 }
 
 std::string range_text(const std::array<double, 2>& range) {

@@ -46,6 +46,9 @@ int phase_index(const Config& config, std::string_view key, const std::string& n
 std::size_t orbits_of(const Config& config);
 // [ensemble] seed, ≥ 0 (default 0).
 std::uint64_t seed_of(const Config& config);
+// [ensemble] `key`, a range [lo, hi] or one number, whose width hi − lo is finite, so that every
+// point lo + (hi − lo)·u drawn in it (u < 1) is finite (an error naming the key otherwise).
+std::array<double, 2> range_of(const Config& config, std::string_view key);
 // "[lo, hi]" with round-trip digits, or "x" when lo = hi.
 std::string range_text(const std::array<double, 2>& range);
 

@@ -9,7 +9,10 @@
 namespace qmaps {
 
 double lattice_value(const std::array<double, 2>& range, std::size_t points, std::size_t j) {
-  if (points == 1) return 0.5 * (range[0] + range[1]);
+  if (points == 1) {  // lo + hi may overflow where the width does not: then halve each first
+    const double sum = range[0] + range[1];
+    return std::isfinite(sum) ? 0.5 * sum : 0.5 * range[0] + 0.5 * range[1];
+  }
   // std::lerp is exact at both ends: j = 0 gives lo, j = points − 1 gives hi.
   return std::lerp(range[0], range[1], static_cast<double>(j) / static_cast<double>(points - 1));
 }
@@ -27,7 +30,7 @@ Lattice Lattice::from_config(const Config& config, std::vector<int> axes) {
       throw usage_error(config.where("ensemble", "points") + " must be > 0 (got " +
                         std::to_string(n) + ")");
     const auto name = phase_names[static_cast<std::size_t>(axes[k])];
-    const auto range = config.range("ensemble", name);
+    const auto range = range_of(config, name);
     if (n > 1 && !(range[0] < range[1]))
       throw usage_error(config.where("ensemble", name) +
                         " is an empty range: " + std::to_string(n) + " grid points need lo < hi");
@@ -76,7 +79,7 @@ Grid::Grid(const Config& config) {
   for (int k = 0; k < 4; ++k) {
     if (k == axes[0] || k == axes[1]) continue;
     const auto name = phase_names[static_cast<std::size_t>(k)];
-    const auto range = config.range("ensemble", name);
+    const auto range = range_of(config, name);
     if (range[0] != range[1])
       throw usage_error(config.where("ensemble", name) +
                         " must be one number: the grid's other coordinates are fixed");

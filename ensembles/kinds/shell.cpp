@@ -1,6 +1,7 @@
 #include "ensembles/kinds/shell.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
@@ -53,7 +54,7 @@ Shell::Shell(const Config& config, const Potential& potential) : potential_(pote
     if (k != solve_) {
       axes.push_back(k);
       ranges_[static_cast<std::size_t>(k)] =
-          config.range("ensemble", phase_names[static_cast<std::size_t>(k)]);
+          range_of(config, phase_names[static_cast<std::size_t>(k)]);
     }
   if (config.has("ensemble", phase_names[static_cast<std::size_t>(solve_)]))
     throw usage_error(config.where("ensemble", phase_names[static_cast<std::size_t>(solve_)]) +
@@ -101,7 +102,7 @@ std::optional<Phase> Shell::solve(std::array<double, 4> x) const {
     x[s] = 0;
     const double rest = potential_.energy(as_phase(x));
     const double p2 = 2 * (energy_ - rest);
-    if (!(p2 >= 0)) return std::nullopt;
+    if (!(p2 >= 0 && p2 <= std::numeric_limits<double>::max())) return std::nullopt;
     x[s] = sign_ * std::sqrt(p2);
     return as_phase(x);
   }
@@ -112,7 +113,7 @@ std::optional<Phase> Shell::solve(std::array<double, 4> x) const {
   x[s] = 0;
   const double rest = potential_.energy(as_phase(x));  // everything without q_k
   const auto root = smallest_nonnegative_root(ak, Ak + potential_.delta * xo, rest - energy_);
-  if (!root) return std::nullopt;
+  if (!root || !(*root <= std::numeric_limits<double>::max())) return std::nullopt;
   x[s] = sign_ * std::sqrt(*root);
   return as_phase(x);
 }

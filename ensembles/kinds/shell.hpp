@@ -39,7 +39,8 @@ class Shell final : public EnsembleKind {
   std::uint64_t rejected_up_front() const override { return rejected_up_front_; }
   bool rejects_points() const override { return true; }
 
-  // The point with the three other coordinates of x and `solve` from H = E, if there is one.
+  // The point with the three other coordinates of x and `solve` from H = E, if there is a finite
+  // one (a potential that overflows leaves none).
   std::optional<Phase> solve(std::array<double, 4> x) const;
 
  private:

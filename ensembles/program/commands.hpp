@@ -18,7 +18,8 @@ struct RunOptions {
   std::vector<std::string> sets;  // "section.key=value"
   std::string out;                // overrides [output] file when not empty
   std::string shard;              // "k/K": only orbit range k of K, into a shard file
-  int threads = 0;                // 0: all the cores OpenMP offers
+  int threads = 0;                // 0: all the cores OpenMP offers (core/thread_limit.hpp)
+  std::string threads_given_as = "--threads ";  // how messages name it: "--threads 8"
   std::string simd = "auto";
   bool quiet = false;
   std::string command_line;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <ostream>
 #include <vector>
 
@@ -59,16 +60,48 @@ Ensemble first_orbits(const Model& model, const InitialConditions& ic, std::size
   return e;
 }
 
-// Coefficients left out below this times the largest: --drop, or the coefficients' uncertainty
-// σ_{k+1}/σ_k (1/gap) where that is larger.
-double drop_of(const Discovery& d, const DiscoverOptions& o) {
-  return d.gap > 0 ? std::max(o.drop, 1 / d.gap) : o.drop;
-}
-
 std::string g(double x, int digits = 3) {
   char text[40];
   std::snprintf(text, sizeof text, "%.*g", digits, x);
   return text;
+}
+
+// Orbits that all start on one level set J = c of an invariant J of the map (a shell of one
+// energy, for the flow's H) stay on it, and every polynomial (J − c)·g then vanishes on the data:
+// each would read as an invariant, as many as there are g. Refused, naming J, where J's values
+// over the orbits agree within `level` (relative), the scale at which the null space is read.
+void refuse_one_level_set(const Model& model, const Ensemble& e, double level) {
+  const auto& names = model.invariant_names();
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<double> low(names.size(), inf), high(names.size(), -inf);
+  std::size_t orbits = 0;
+  for (std::size_t i = 0; i < e.orbits; ++i) {
+    if (e.escape_step[i] >= 0) continue;
+    const auto values = model.invariants(e, i);
+    ++orbits;
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      if (!std::isfinite(values[k])) continue;
+      low[k] = std::min(low[k], values[k]);
+      high[k] = std::max(high[k], values[k]);
+    }
+  }
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const double scale = std::max(std::fabs(low[k]), std::fabs(high[k]));
+    if (!(low[k] <= high[k]) || !(high[k] - low[k] <= level * scale)) continue;
+    throw usage_error(
+        "the " + std::to_string(orbits) + " orbits lie on one level set of the map's invariant " +
+        names[k] + " (" + names[k] + " = " + g(low[k], 6) + " on every orbit, to " +
+        g(scale > 0 ? (high[k] - low[k]) / scale : 0.0) + " relative): every polynomial (" +
+        names[k] + " - " + g(low[k], 6) + ") g vanishes on the data and would read as an " +
+        "invariant; give orbits spread over " + names[k] + "'s values (a box, or shells of " +
+        "several energies)");
+  }
+}
+
+// Coefficients left out below this times the largest: --drop, or the coefficients' uncertainty
+// σ_{k+1}/σ_k (1/gap) where that is larger.
+double drop_of(const Discovery& d, const DiscoverOptions& o) {
+  return d.gap > 0 ? std::max(o.drop, 1 / d.gap) : o.drop;
 }
 
 void print_report(const Discovery& d, const DifferenceRows& rows,
@@ -173,13 +206,17 @@ int discover_command(const DiscoverOptions& o, std::ostream& out) {
                       "rows than monomials)");
 
   Ensemble e = first_orbits(*model, ic, orbits, rule, escape_bound);
+  refuse_one_level_set(*model, e, o.threshold > 0 ? o.threshold : DiscoveryOptions{}.ceiling);
   DifferenceRows rows(Monomials(names.size(), static_cast<int>(o.degree)));
   const StepsAdded added = add_steps(*model, e, o.steps, escape_bound, rows);
   if (rows.rows() < rows.monomials().size())
-    throw usage_error("too few rows: " + std::to_string(rows.rows()) + " steps of orbits that " +
-                      "did not escape (" + std::to_string(added.escaped) + " of " +
-                      std::to_string(orbits) + " escaped) for " +
-                      std::to_string(rows.monomials().size()) + " monomials");
+    throw usage_error(
+        "too few rows: " + std::to_string(rows.rows()) + " steps of orbits that did not escape (" +
+        std::to_string(added.escaped) + " of " + std::to_string(orbits) + " escaped" +
+        (added.skipped ? "; " + std::to_string(added.skipped) +
+                             " steps left out, their monomials beyond the largest double"
+                       : std::string()) +
+        ") for " + std::to_string(rows.monomials().size()) + " monomials");
   DiscoveryOptions options;
   options.threshold = o.threshold;
   const Discovery d = discover(rows, options);

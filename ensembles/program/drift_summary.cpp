@@ -11,9 +11,16 @@ DriftSummary::DriftSummary(std::span<const double> initial, std::span<const doub
   for (std::size_t i = 0; i < initial.size(); ++i) {
     if (!keep.empty() && !keep[i]) continue;
     const double scale = std::fabs(initial[i]);
-    sorted_.push_back(scale > 0 ? max_abs_drift[i] / scale : max_abs_drift[i]);
+    // An invariant that is not a number (or infinite) at the start has no drift to speak of.
+    const double d = !std::isfinite(scale) ? std::numeric_limits<double>::quiet_NaN()
+                     : scale > 0           ? max_abs_drift[i] / scale
+                                           : max_abs_drift[i];
+    not_numbers_ += std::isnan(d);
+    sorted_.push_back(d);
   }
-  std::sort(sorted_.begin(), sorted_.end());
+  // NaN after every number: the worst of a set with a NaN is NaN, never a number below it.
+  std::sort(sorted_.begin(), sorted_.end(),
+            [](double a, double b) { return a < b || (!std::isnan(a) && std::isnan(b)); });
 }
 
 double DriftSummary::percentile(double p) const {

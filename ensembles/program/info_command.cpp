@@ -168,7 +168,11 @@ int describe(const std::string& path, std::ostream& out) {
     const auto initial = inv.read_doubles("initial", orbits),
                drift = inv.read_doubles("max_abs_drift", orbits);
     const DriftSummary s(initial, drift, alive);
-    out << "worst " << g(s.percentile(1)) << ", median " << g(s.percentile(0.5)) << '\n';
+    out << "worst " << g(s.percentile(1)) << ", median " << g(s.percentile(0.5));
+    if (s.not_numbers())
+      out << " (" << s.not_numbers() << " of " << s.orbits() << " orbits' " << name
+          << " is not a number: no drift can be measured)";
+    out << '\n';
   }
   if (invariants.has("image"))
     out << "invariant image: " << histogram_text(invariants.open_group("image"), "counts") << '\n';

@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #endif
 
 #include "core/error.hpp"
+#include "core/memory_limit.hpp"
 #include "core/ranks.hpp"
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
@@ -199,6 +201,14 @@ int main(int argc, char** argv) {
       std::_Exit(static_cast<int>(e.code()));
     }
     return static_cast<int>(e.code());
+  } catch (const std::bad_alloc&) {
+    // The estimates checked before the work leave out what no estimate knows (a library's
+    // buffers): an allocation refused then is still the memory limit, not a fault of qmaps.
+    const qmaps::MemoryLimit have = qmaps::memory_limit();
+    errors << "qmaps: error: out of memory: " << have.what << " is "
+           << have.bytes / (1 << 30) << " GiB now; the work needs more than qmaps estimated: "
+           << "give it more memory, or fewer orbits, bins or threads\n";
+    return static_cast<int>(qmaps::ExitCode::usage);
   } catch (const std::exception& e) {
     errors << "qmaps: error: " << e.what() << '\n';
     return static_cast<int>(qmaps::ExitCode::failure);

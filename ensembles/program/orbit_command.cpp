@@ -42,7 +42,9 @@ std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
   if (o.energy) {  // p2 from H_cont = E, with the sign --ic gives it
     const double rest = model->continuous().energy({ic.q1, ic.q2, ic.p1, 0.0});
     const double p2_squared = 2 * (*o.energy - rest);
-    if (!std::isfinite(*o.energy) || !(p2_squared >= 0))
+    if (!std::isfinite(*o.energy))
+      throw usage_error("--energy " + number_text(*o.energy) + ": the energy must be finite");
+    if (!(p2_squared >= 0))
       throw usage_error("--energy " + number_text(*o.energy) + ": below the energy " +
                         number_text(rest) + " of (q1, q2, p1) = (" + number_text(ic.q1) + ", " +
                         number_text(ic.q2) + ", " + number_text(ic.p1) +

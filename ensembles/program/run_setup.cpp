@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
 #include "core/ranks.hpp"
+#include "core/thread_limit.hpp"
 #include "core/tangent_map.hpp"
 #include "ensembles/io/checkpoint.hpp"
 
@@ -28,15 +29,17 @@ ChaosReport chaos_report_of(const Config& config) {
 }
 
 
-// Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits and
-// its observers (Observers::bytes: the histograms in every thread, the sections' point slots).
+// Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits, its
+// observers (Observers::bytes: the histograms in every thread, the sections' point slots) and its
+// threads (their stacks, which count against an address-space limit).
 void check_memory(const Config& config, const Model& model, std::size_t orbits,
-                  double for_observers) {
+                  double for_observers, int threads) {
   const double padded = static_cast<double>((orbits + Ensemble::padding - 1) /
                                             Ensemble::padding * Ensemble::padding);
   const double for_orbits = padded * bytes_per_orbit(model);
+  const double for_threads = threads * bytes_per_thread();
   const MemoryLimit have = memory_limit();
-  if (for_orbits + for_observers <= have.bytes) return;
+  if (for_orbits + for_observers + for_threads <= have.bytes) return;
   // The key that sets the ensemble's size: a grid's points, else its orbits.
   const char* key = config.has("ensemble", "points") ? "points" : "orbits";
   char text[300];
@@ -48,6 +51,11 @@ void check_memory(const Config& config, const Model& model, std::size_t orbits,
                   ", and their histograms (a copy per thread), section points and trajectories "
                   "%.3g GiB",
                   for_observers / (1 << 30));
+    message += text;
+  }
+  if (for_threads > 0) {
+    std::snprintf(text, sizeof text, ", and %d threads' stacks %.3g GiB", threads,
+                  for_threads / (1 << 30));
     message += text;
   }
   std::snprintf(text, sizeof text, "; %s is %.3g GiB", have.what.c_str(), have.bytes / (1 << 30));
@@ -100,7 +108,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
                         std::to_string(ranks::rank()) + " of " + std::to_string(ranks::count()) +
                         " none: run it on fewer ranks");
   }
-  check_memory(config, *r.model, r.orbits, 0);  // before the observers are made
+  check_memory(config, *r.model, r.orbits, 0, 0);  // before the observers are made
   try {
     r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
   } catch (const Error& e) {
@@ -119,8 +127,11 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
     throw usage_error(config.where("run", "checkpoint_every") + " must be >= 0 (0: never)");
 
   r.x.isa = resolve_isa(options.simd);
-  r.x.threads =
-      r.x.isa == Isa::scalar ? 1 : options.threads > 0 ? options.threads : omp_get_max_threads();
+  // Checked even where the scalar path runs on one thread: the request is the same mistake.
+  const int team =
+      checked_threads(r.x.isa == Isa::scalar && options.threads == 0 ? 1 : options.threads,
+                      options.threads_given_as + std::to_string(options.threads));
+  r.x.threads = r.x.isa == Isa::scalar ? 1 : team;
   r.x.chains = static_cast<int>(config.integer_or("run", "chains", Execution{}.chains));
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
@@ -132,7 +143,10 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (!r.shard && !ranks::root()) keep_orbits_in(r.trajectories, 0, 0);
   double for_trajectories = 0;
   for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
-  check_memory(config, *r.model, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories);
+  // The threads started: OpenMP's beside this one, and the writer's, one per invariant
+  // (ensembles/io/output.cpp).
+  check_memory(config, *r.model, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories,
+               r.x.threads - 1 + static_cast<int>(r.model->invariant_names().size()));
   r.image = invariant_image_from_config(config, *r.model);
   r.chaos = chaos_report_of(config);
 
@@ -151,6 +165,9 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   const auto slash = r.path.rfind('/');
   const std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
   const std::size_t longest = name.size() + std::strlen(checkpoint_suffix) + std::strlen(".tmp-") + 10;
+  if (!r.path.empty() && (name.empty() || name == "." || name == ".."))
+    throw usage_error(config.where("output", "file") + ": '" + r.path +
+                      "' names a folder; the output must be a file's name");
   if (name.empty() || longest > NAME_MAX)
     throw usage_error(config.where("output", "file") + ": the name '" + name + "' has " +
                       std::to_string(name.size()) + " bytes; its checkpoint's temporary needs " +
@@ -230,11 +247,17 @@ void check_output_name(const std::string& path, const std::string& where) {
                       (name.empty() ? path : path + "/") + "run.h5, say)");
 }
 
-double memory_of(const Run& r) {
+double memory_of(const Run& r) { return memory_of(r, r.orbits); }
+
+double memory_of(const Run& r, std::size_t orbits) {
   const std::size_t padded =
-      (r.orbits + Ensemble::padding - 1) / Ensemble::padding * Ensemble::padding;
+      (orbits + Ensemble::padding - 1) / Ensemble::padding * Ensemble::padding;
+  double slots_per_orbit = 0;  // SectionPoints::bytes() is the orbits times an orbit's share
+  for (const auto& s : r.observers.sections)
+    slots_per_orbit += static_cast<double>(s.points->bytes() / r.orbits);
   double bytes = static_cast<double>(padded) * bytes_per_orbit(*r.model) +
-                 r.observers.bytes(r.x.threads);
+                 r.observers.bytes(r.x.threads) +
+                 (static_cast<double>(orbits) - static_cast<double>(r.orbits)) * slots_per_orbit;
   for (const auto& t : r.trajectories) bytes += t.bytes(r.plan.total);
   return bytes;
 }

@@ -80,6 +80,9 @@ void check_output_name(const std::string& path, const std::string& where);
 // The memory the run holds: its ensemble (padded), its observers with each thread's partial, its
 // trajectories.
 double memory_of(const Run& r);
+// The same for a run of the same keys and map with `orbits` orbits instead (a sweep's other
+// points, known before their observers are made): a section's slots scale with the orbits.
+double memory_of(const Run& r, std::size_t orbits);
 
 // The record of the run with the ensemble where it is now, this session ended at `now`.
 RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,

@@ -11,6 +11,7 @@
 #include "core/io/h5.hpp"
 #include "core/memory_limit.hpp"
 #include "core/sweep_runner.hpp"
+#include "core/thread_limit.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/io/sweep_output.hpp"
@@ -21,13 +22,15 @@
 namespace qmaps {
 namespace {
 
-// Refuses, before allocating, a sweep whose points cannot all fit in this machine's memory.
-void check_memory(const Config& config, const std::vector<Run>& runs) {
-  double bytes = 0;
+// Refuses, before any point but the first has its observers, a sweep whose points cannot all
+// fit in memory: each point's run is the first's (the same keys and map) with its own orbits.
+void check_memory(const Config& config, const Run& first,
+                  const std::vector<InitialConditions>& starts) {
+  double bytes = (first.x.threads - 1) * bytes_per_thread();  // the threads serve every point
   std::size_t orbits = 0;
-  for (const auto& r : runs) {
-    bytes += memory_of(r);
-    orbits += r.orbits;
+  for (const auto& s : starts) {
+    bytes += memory_of(first, s.orbits());
+    orbits += s.orbits();
   }
   const MemoryLimit have = memory_limit();
   if (bytes <= have.bytes) return;
@@ -35,7 +38,8 @@ void check_memory(const Config& config, const std::vector<Run>& runs) {
   std::snprintf(text, sizeof text,
                 ": %zu points, %zu orbits in all, need about %.3g GiB with their observers; %s "
                 "is %.3g GiB",
-                runs.size(), orbits, bytes / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
+                starts.size(), orbits, bytes / (1 << 30), have.what.c_str(),
+                have.bytes / (1 << 30));
   throw usage_error(config.where("sweep[0]") + text);
 }
 
@@ -44,33 +48,40 @@ void check_memory(const Config& config, const std::vector<Run>& runs) {
 int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& options,
               const std::string& started, const InterruptGuard& interrupt, std::ostream& log) {
   const std::size_t points = sweep.points();
-  std::vector<Run> runs;
+  // First every point's map and initial conditions (which fix its orbits), then the first
+  // point's run, from which the whole sweep's memory is known before the others are made.
+  std::vector<std::unique_ptr<Model>> models;
   std::vector<InitialConditions> starts;
+  std::optional<Config> first_point;  // kept: the keys its readers used, for reject_unknown()
   for (std::size_t k = 0; k < points; ++k) {
     Config point = sweep.config_of(config, k);
-    std::unique_ptr<Model> model;
     try {  // the point's own map and, for a shell, its own energy surface
-      model = map_of(point, chaos_options_of(point));
+      models.push_back(map_of(point, chaos_options_of(point)));
       starts.push_back(options.points ? InitialConditions::of_points(point, options.points)
-                                      : InitialConditions::from_config(point, *model));
+                                      : InitialConditions::from_config(point, *models.back()));
     } catch (const Error& e) {
       throw Error(e.code(), "[[sweep]] " + sweep.label(k) + ": " + e.what());
     }
-    Run r = run_of(point, std::move(model), starts.back().orbits(), options);
+    if (k == 0) first_point = std::move(point);
+  }
+  std::vector<Run> runs;
+  for (std::size_t k = 0; k < points; ++k) {
+    Config point = k == 0 ? std::move(*first_point) : sweep.config_of(config, k);
+    Run r = run_of(point, std::move(models[k]), starts[k].orbits(), options);
     if (r.checkpoint_every > 0)
       throw usage_error(point.where("run", "checkpoint_every") +
                         ": a sweep keeps no checkpoint (it runs to the end or stops with nothing "
                         "written)");
-    r.kind = starts.back().kind();
-    r.rejects_points = starts.back().generator().rejects_points();
-    r.description = starts.back().description();
-    r.seed = starts.back().seed();
+    r.kind = starts[k].kind();
+    r.rejects_points = starts[k].generator().rejects_points();
+    r.description = starts[k].description();
+    r.seed = starts[k].seed();
     r.command_line = options.command_line;
     r.started = started;
     if (k == 0) point.reject_unknown();
+    if (k == 0) check_memory(config, r, starts);
     runs.push_back(std::move(r));
   }
-  check_memory(config, runs);
   const Run& first = runs.front();
 
   const OutputLock lock(first.path);  // first: a second run to this output is refused
