@@ -74,8 +74,8 @@ int checked_threads(long long requested, const std::string& who) {
   const int team = requested > 0 ? static_cast<int>(requested) : omp_get_max_threads();
   rlimit nproc{};
   if (getrlimit(RLIMIT_NPROC, &nproc) == 0 && nproc.rlim_cur != RLIM_INFINITY &&
-      static_cast<unsigned long long>(team) >= nproc.rlim_cur)
-    throw usage_error(who + ": " + std::to_string(team) + " threads reach the limit of " +
+      static_cast<unsigned long long>(team) > nproc.rlim_cur)
+    throw usage_error(who + ": " + std::to_string(team) + " threads pass the limit of " +
                       std::to_string(nproc.rlim_cur) +
                       " processes and threads of this user (ulimit -u); use fewer threads");
   // A team once started is not probed again (a sweep checks each point's run): only a larger one.

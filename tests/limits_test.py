@@ -112,7 +112,7 @@ class Limits(unittest.TestCase):
 
     def test_threads_beyond_the_process_limit_are_refused(self):
         r = run(self.dir, *self.small("--threads", "8"), processes=4)
-        self.refused(r, 2, "--threads 8: 8 threads reach the limit of 4 processes and threads "
+        self.refused(r, 2, "--threads 8: 8 threads pass the limit of 4 processes and threads "
                            "of this user (ulimit -u)")
         self.nothing_left()
 
@@ -184,7 +184,7 @@ class Limits(unittest.TestCase):
     def test_an_output_that_names_a_folder_is_refused_as_such(self):
         (self.dir / "sub").mkdir()
         r = run(self.dir, *self.small(out="sub/"))
-        self.refused(r, 2, "'sub/' names a folder; the output must be a file's name")
+        self.refused(r, 2, "'sub/' names a folder; the output is a file in it (sub/run.h5, say)")
         self.assertNotIn("0 bytes", r.stderr)
 
     def test_a_sweep_point_names_the_line_of_its_key(self):

@@ -165,9 +165,6 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   const auto slash = r.path.rfind('/');
   const std::string name = slash == std::string::npos ? r.path : r.path.substr(slash + 1);
   const std::size_t longest = name.size() + std::strlen(checkpoint_suffix) + std::strlen(".tmp-") + 10;
-  if (!r.path.empty() && (name.empty() || name == "." || name == ".."))
-    throw usage_error(config.where("output", "file") + ": '" + r.path +
-                      "' names a folder; the output must be a file's name");
   if (name.empty() || longest > NAME_MAX)
     throw usage_error(config.where("output", "file") + ": the name '" + name + "' has " +
                       std::to_string(name.size()) + " bytes; its checkpoint's temporary needs " +
