@@ -22,6 +22,7 @@ const std::vector<std::string>& shards() {
       std::ostringstream log;
       qmaps::RunOptions run;
       run.config_path = "base.toml";
+      run.sets = {"output.file=\"base.h5\""};  // the run's output, which every shard names
       run.shard = std::to_string(k) + "/3";
       run.out = "shard-" + std::to_string(k) + ".h5";
       run.threads = 1;

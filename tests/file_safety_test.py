@@ -303,6 +303,8 @@ class Files(unittest.TestCase):
         shards = self.shards(count=40, orbits=400)
         r = qmaps(self.dir, "merge", *shards, "--out", "m.h5", nofile=30)
         self.assertEqual(r.returncode, 0, r.stderr)
+        if "ASAN_OPTIONS" in os.environ:
+            return  # the sanitizers' runtime itself needs descriptors to report anything
         r = qmaps(self.dir, "merge", *shards, "--out", "n.h5", nofile=4)
         self.refused(r, 3, "Too many open files", "ulimit -n")
 
