@@ -173,9 +173,9 @@ def test_bad_arguments_raise_clear_errors(configs):
             qmaps.run({"map": {"name": "suris"}}, initial=initial)
     with pytest.raises(qmaps.ConfigError, match=r"leave out \[ensemble\]"):
         qmaps.run(configs["suris"], initial=np.zeros((2, 4)))
-    with pytest.raises(TypeError):
+    with pytest.raises(qmaps.ConfigError, match="config: a dict, TOML text or a path, not int"):
         qmaps.run(42)
-    with pytest.raises(TypeError):
+    with pytest.raises(qmaps.ConfigError, match="run=5: a dict of keys"):
         qmaps.run(configs["suris"], run=5)
 
 

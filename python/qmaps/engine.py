@@ -1,6 +1,7 @@
 """The engine in process: run(), orbit() and maps(), the qmaps program's run, orbit and list
 commands with numpy arrays in and out (docs/python.md)."""
 import operator
+import collections.abc
 import os
 import shutil
 import sys
@@ -37,7 +38,14 @@ def _config_source(config):
         if "\n" in config or "=" in config:
             return "", config, "<text>"
         return config, "", ""
-    raise TypeError(f"config: a dict, TOML text or a path, not {type(config).__name__}")
+    raise ConfigError(f"config: a dict, TOML text or a path, not {type(config).__name__}")
+
+
+def _column(name, values):
+    try:
+        return np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ConfigError(f"initial conditions: {name} must be numbers") from None
 
 
 def _points(initial):
@@ -49,11 +57,15 @@ def _points(initial):
                                                  else initial.dtype.names)]
         if missing:
             raise ConfigError(f"initial conditions: no {', '.join(missing)}")
-        columns = [np.asarray(initial[n], dtype=np.float64) for n in names]
+        columns = [_column(n, initial[n]) for n in names]
     elif isinstance(initial, (list, tuple)) and len(initial) == 4 and np.ndim(initial[0]) == 1:
-        columns = [np.asarray(c, dtype=np.float64) for c in initial]
+        columns = [_column(n, c) for n, c in zip(names, initial)]
     else:
-        array = np.asarray(initial, dtype=np.float64)
+        try:
+            array = np.asarray(initial, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ConfigError(f"initial conditions: numbers of shape (orbits, 4), not "
+                              f"{type(initial).__name__}") from None
         if array.ndim != 2 or array.shape[1] != 4:
             raise ConfigError(f"initial conditions: expected shape (orbits, 4), got {array.shape}")
         return np.ascontiguousarray(array)
@@ -75,8 +87,54 @@ def _integer(name, value, low, high, rule):
     return number
 
 
+def _number(name, value):
+    """`value` as a float (numpy numbers and 0-d arrays too), or a ConfigError naming it."""
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{name}={value!r}: must be a number") from None
+
+
+def _flag(name, value):
+    """`value` as a bool (numpy bools and 0-d arrays too), or a ConfigError naming it."""
+    try:
+        return bool(value)
+    except (TypeError, ValueError):
+        raise ConfigError(f"{name}={value!r}: must be True or False") from None
+
+
+def _path(name, value):
+    """`value` as a path (str, bytes or os.PathLike), or a ConfigError naming the argument."""
+    try:
+        return os.fspath(value)
+    except TypeError:
+        raise ConfigError(f"{name}={value!r}: must be a path (str or os.PathLike), not "
+                          f"{type(value).__name__}") from None
+
+
+def _orbit_arguments(params, ic):
+    """The map's parameters as a dict and the initial condition as text, or a ConfigError naming
+    the argument and the rule."""
+    if params is not None and not isinstance(params, dict):
+        raise ConfigError(f"params={params!r}: must be a dict {{name: value}}, not "
+                          f"{type(params).__name__}")
+    if isinstance(ic, str):
+        return params or {}, ic
+    try:
+        values = [float(x) for x in np.asarray(ic, dtype=object).reshape(-1)]
+    except (TypeError, ValueError):
+        values = None
+    if values is None or np.ndim(ic) != 1 or len(values) != 4:
+        raise ConfigError(f"ic={ic!r}: must be four numbers (q1, q2, p1, p2)")
+    return params or {}, ",".join(repr(x) for x in values)
+
+
 def _run_folder(tmpdir):
     """A new folder for the run's file, in `tmpdir` (None: the system's)."""
+    if tmpdir is not None:
+        tmpdir = os.fsdecode(_path("tmpdir", tmpdir))
+        if "\0" in tmpdir:
+            raise FileError(f"tmpdir {tmpdir!r}: a folder name cannot hold a NUL byte")
     try:
         return tempfile.mkdtemp(prefix="qmaps-run-", dir=tmpdir)
     except OSError as e:
@@ -131,10 +189,20 @@ def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(),
     the orbits step."""
     engine = _the_engine()
     path, text, source = _config_source(config)
-    overrides = list(sets)
+    if isinstance(sets, (str, bytes)) or not isinstance(sets, collections.abc.Iterable):
+        raise ConfigError(f"sets={sets!r}: must be a list of \"section.key=value\" strings")
+    try:
+        overrides = list(sets)
+    except TypeError:
+        overrides = [None]
+    if not all(isinstance(s, str) for s in overrides):
+        raise ConfigError(f"sets={sets!r}: must be a list of \"section.key=value\" strings")
+    if not isinstance(simd, str):
+        raise ConfigError(f"simd={simd!r}: must be a path's name, as --simd (\"auto\", \"scalar\", "
+                          "\"sse2\", \"avx2\", \"avx512\")")
     for table, values in tables.items():
         if not isinstance(values, dict):
-            raise TypeError(f"{table}=: a dict of keys, as {table}={{'key': value}}")
+            raise ConfigError(f"{table}={values!r}: a dict of keys, as {table}={{'key': value}}")
         overrides += [f"{table}.{k}={toml_text.value(v, f'{table}.{k}')}"
                       for k, v in values.items()]
     threads = _integer("threads", threads, 0, 2**31 - 1,
@@ -169,13 +237,14 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
 
     An orbit that escapes ends its rows before the escape, with a RuntimeWarning saying when."""
     engine = _the_engine()
-    sets = [f"{k}={toml_text.value(v, f'params[{k!r}]')}" for k, v in (params or {}).items()]
-    ic_text = ",".join(repr(float(x)) for x in ic) if not isinstance(ic, str) else ic
+    params, ic_text = _orbit_arguments(params, ic)
+    sets = [f"{k}={toml_text.value(v, f'params[{k!r}]')}" for k, v in params.items()]
     steps = _integer("steps", steps, 0, 2**63 - 1, "an integer >= 0")
     every = _integer("every", every, 1, 2**63 - 1, "an integer >= 1")
     columns, table, escaped = engine.orbit(str(map), sets, ic_text, steps, every,
-                                           str(start), float(escape_bound), bool(chaos),
-                                           None if energy is None else float(energy))
+                                           str(start), _number("escape_bound", escape_bound),
+                                           _flag("chaos", chaos),
+                                           None if energy is None else _number("energy", energy))
     if escaped:
         warnings.warn(f"qmaps.orbit: {escaped}", RuntimeWarning, stacklevel=2)
     if frame is None or frame:

@@ -328,7 +328,13 @@ def load(path, skip=()):
     dataset when first asked for. Datasets whose path (without the leading /) matches a pattern
     of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises FileError
     when the file is missing, not a regular file, not HDF5 (or damaged) or not a qmaps run."""
-    path = os.fspath(path)
+    try:
+        path = os.fspath(path)
+    except TypeError:
+        raise FileError(f"{path!r}: not a path (str or os.PathLike), but "
+                        f"{type(path).__name__}") from None
+    if "\0" in (path if isinstance(path, str) else path.decode(errors="replace")):
+        raise FileError(f"{path!r}: a file name cannot hold a NUL byte")
     _regular_file(path)
     f = None
     try:
