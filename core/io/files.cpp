@@ -33,6 +33,8 @@ std::string folder_of(const std::string& path) {
   return slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
 }
 
+std::string name_of(const std::string& path) { return path.substr(path.rfind('/') + 1); }
+
 // An open descriptor of the regular file `path`, or an io error; O_NONBLOCK: a FIFO without a
 // writer would block the open itself.
 int open_regular(const std::string& path, const std::string& what) {
@@ -112,12 +114,10 @@ void check_output_target(const std::string& path) {
 }
 
 void remove_stale_temporaries(const std::string& path) {
-  const auto slash = path.rfind('/');
-  const std::string folder = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  const std::string prefix = (slash == std::string::npos ? path : path.substr(slash + 1)) + ".tmp-";
+  const std::string prefix = name_of(path) + ".tmp-";
   const std::string mine = std::to_string(::getpid());
   std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(folder, error)) {
+  for (const auto& entry : std::filesystem::directory_iterator(folder_of(path), error)) {
     const std::string name = entry.path().filename().string();
     if (name.size() <= prefix.size() || name.compare(0, prefix.size(), prefix) != 0) continue;
     const std::string digits = name.substr(prefix.size());

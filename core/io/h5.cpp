@@ -2,15 +2,12 @@
 
 #include <algorithm>
 
-#include <signal.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
 #include <type_traits>
 
 #include "core/error.hpp"
