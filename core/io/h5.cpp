@@ -12,6 +12,7 @@
 
 #include "core/error.hpp"
 #include "core/io/files.hpp"
+#include "core/io/h5_writing_driver.hpp"
 #include "core/ranks.hpp"
 
 namespace qmaps::h5 {
@@ -182,7 +183,13 @@ void transfer_part(hid_t parent, const std::string& where, const std::string& na
             "selection in " + what, 0);
   }
   const Handle xfer = transfer(shared);
-  checked(io(set.id(), memory_space.id(), file_space.id(), xfer.id()), "cannot transfer " + what, 0);
+  errno = 0;
+  if (io(set.id(), memory_space.id(), file_space.id(), xfer.id()) < 0) {
+    // The reason of a write the file system refused (a full disk, a file-size limit).
+    const int err = errno;
+    const bool refused = err == ENOSPC || err == EFBIG || err == EDQUOT || err == EIO;
+    throw failure("cannot transfer " + what + (refused ? ": " + files::reason(err) : ""));
+  }
 }
 
 void write_attr(hid_t obj, const std::string& name, hid_t type, hid_t space, const void* value) {
@@ -400,8 +407,24 @@ hid_t create_file(const std::string& path, bool shared = false) {
 #else
     return -1;
 #endif
+  } else if (!use_writing_driver(access.id())) {
+    return -1;
   }
   return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
+}
+
+// Closes a file written by this process. Its flush first: a flush that fails leaves the file to
+// be discarded by its driver (core/io/h5_writing_driver.hpp), so that the close itself succeeds.
+herr_t close_written(hid_t id) {
+  if (H5Fflush(id, H5F_SCOPE_LOCAL) < 0) {
+    const int err = errno;
+    H5Fclose(id);
+    errno = err;
+    return -1;
+  }
+  if (H5Fclose(id) < 0) return -1;
+  errno = last_close_error();
+  return errno == 0 ? 0 : -1;
 }
 
 }  // namespace
@@ -409,13 +432,13 @@ hid_t create_file(const std::string& path, bool shared = false) {
 File File::create(const std::string& path) {
   const hid_t id = create_file(path);
   if (id < 0) throw Error(ExitCode::io, "cannot create output file '" + path + "'");
-  return File(Handle(id, H5Fclose), path);
+  return File(Handle(id, close_written), path);
 }
 
 void File::close() {
   const hid_t id = h_.release();
   errno = 0;
-  if (id >= 0 && H5Fclose(id) < 0) {
+  if (id >= 0 && close_written(id) < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot complete '" + path_ + "'" +
                                   (err ? std::string(": ") + std::strerror(err) : std::string()));
@@ -455,7 +478,7 @@ File AtomicFile::create_hdf5(int deflate) const {
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
                                   (err ? ": " + files::reason(err) : std::string()));
   }
-  return File(Handle(id, H5Fclose), temporary_, deflate, shared_);
+  return File(Handle(id, close_written), temporary_, deflate, shared_);
 }
 
 AtomicFile::~AtomicFile() { discard(); }

@@ -194,8 +194,9 @@ int main(int argc, char** argv) {
   } catch (const qmaps::Error& e) {
     errors << "qmaps: error: " << e.what() << '\n';
     if (e.code() == qmaps::ExitCode::io) {
-      // A file whose close failed (a full disk) stays open inside HDF5, whose exit handler would
-      // then fail on it: the outputs are settled by now (no temporary is left), so end here.
+      // A shared file (MPI-IO) whose close failed (a full disk) stays open inside HDF5, whose
+      // exit handler would then fail on it (core/io/h5_writing_driver.hpp spares the files of
+      // one process): the outputs are settled by now (no temporary is left), so end here.
       std::cout.flush();
       std::fflush(nullptr);
       std::_Exit(static_cast<int>(e.code()));

@@ -1,0 +1,19 @@
+#pragma once
+// The file driver of the HDF5 files one process writes: POSIX reads and writes, as HDF5's own
+// sec2 driver, except that a file whose write has failed (a full disk, a file-size limit) is one
+// qmaps discards, so every later write, flush and truncation of it succeeds without touching it.
+// Its close then succeeds: HDF5 1.10 and 1.12 keep the identifier of a file whose close failed
+// over freed memory, which their exit handler (or the next file opened) uses, ending the
+// process (a Python interpreter) with SIGSEGV.
+#include <hdf5.h>
+
+namespace qmaps::h5 {
+
+// Sets the driver on a file-access property list; false where HDF5 refuses it.
+bool use_writing_driver(hid_t access);
+
+// The error of the last close(2) of a file of this driver on this thread (0: none), which HDF5
+// is not told (its close would fail as above); File::close reports it.
+int last_close_error();
+
+}  // namespace qmaps::h5
