@@ -214,11 +214,16 @@ class Mpi(unittest.TestCase):
                     _, err = p.communicate(timeout=TIMEOUT)
                 with self.subTest(trial=trial, delay=delay):
                     self.assertNotEqual(p.returncode, 0, err)
-                    self.assertIn("checkpoint written to out.h5.ckpt", err)
+                    # The checkpoint is the proof. Rank 0's line about it reaches mpirun's
+                    # stderr only while mpirun still forwards the ranks' output, which OpenMPI
+                    # does not promise once it is ending the job: where mpirun said anything,
+                    # it says that.
+                    if err:
+                        self.assertIn("checkpoint written to out.h5.ckpt", err)
                     self.assert_nothing_written(d, "out.h5")
                     with h5py.File(d / "out.h5.ckpt") as f:
                         reached = int(f["final/state"].attrs["step"])
-                    self.assertGreater(reached, step)
+                    self.assertGreater(reached, step, f"no checkpoint further on; mpirun said {err!r}")
                     step = reached
         finally:
             for b in busy:
