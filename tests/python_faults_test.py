@@ -141,14 +141,24 @@ FULL_DISK = """
 import os, resource, signal, sys
 import h5py, numpy as np, qmaps
 config, folder = sys.argv[1], sys.argv[2]
+tables = {"ensemble": {"orbits": 20000}, "run": {"steps": 20}}
+with qmaps.run(config, **tables) as run:
+    run.save(os.path.join(folder, "whole.h5"))
+size = os.path.getsize(os.path.join(folder, "whole.h5"))
 signal.signal(signal.SIGXFSZ, signal.SIG_IGN)  # a write past the limit fails with EFBIG
-resource.setrlimit(resource.RLIMIT_FSIZE, (200_000, resource.RLIM_INFINITY))
-try:
-    qmaps.run(config, ensemble={"orbits": 20000}, run={"steps": 20}, tmpdir=folder)
-    print("returned a run")
-except qmaps.FileError as e:
-    print("FileError:", e)
-print("left:", os.listdir(folder))
+# The limit cuts the initial points, the datasets after the run, or only the last metadata
+# that HDF5 writes when the file is closed.
+for cut in ("start", "half", "close"):
+    limit = {"start": 200_000, "half": size // 2, "close": size - 1}[cut]
+    resource.setrlimit(resource.RLIMIT_FSIZE, (limit, resource.RLIM_INFINITY))
+    work = os.path.join(folder, cut)
+    os.mkdir(work)
+    try:
+        qmaps.run(config, tmpdir=work, **tables)
+        print(cut, "returned a run")
+    except qmaps.FileError as e:
+        print(cut, "FileError" if "File too large" in str(e) else e)
+    print(cut, "left:", os.listdir(work))
 resource.setrlimit(resource.RLIMIT_FSIZE, (resource.RLIM_INFINITY,) * 2)
 with h5py.File(os.path.join(folder, "other.h5"), "w") as f:  # HDF5 still sound
     f["x"] = np.arange(10)
@@ -158,16 +168,16 @@ print("after:", run.attrs["orbits"])
 
 
 def test_a_full_disk_raises_file_error_and_the_interpreter_ends_cleanly(tmp_path):
-    """A write refused by the file system (here a file-size limit, as a full disk): FileError
-    naming the reason, the run's folder removed, and HDF5 left sound, so that other files are
-    written and the interpreter ends with status 0 (HDF5 1.10 kept a file whose close failed
-    over freed memory, and its exit handler ended the interpreter with SIGSEGV)."""
+    """A write refused by the file system (here a file-size limit, as a full disk), at the start,
+    after the run or only in the close's last metadata: FileError naming the reason, never a
+    damaged file returned, the run's folder removed, and HDF5 left sound, so that other files
+    are written and the interpreter ends with status 0 (HDF5 1.10 kept a file whose close
+    failed over freed memory, and its exit handler ended the interpreter with SIGSEGV)."""
     r = python(FULL_DISK, tmp_path)
     assert r.returncode == 0, (r.returncode, r.stdout, r.stderr)
-    lines = r.stdout.splitlines()
-    assert lines[0].startswith("FileError: HDF5: cannot transfer /") and \
-        lines[0].endswith(": File too large"), lines
-    assert lines[1:] == ["left: []", "after: 100"], lines
+    assert r.stdout.splitlines() == [
+        line for cut in ("start", "half", "close") for line in
+        (f"{cut} FileError", f"{cut} left: []")] + ["after: 100"], r.stdout
 
 
 IN_A_THREAD = """

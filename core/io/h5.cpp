@@ -413,18 +413,16 @@ hid_t create_file(const std::string& path, bool shared = false) {
   return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
 }
 
-// Closes a file written by this process. Its flush first: a flush that fails leaves the file to
-// be discarded by its driver (core/io/h5_writing_driver.hpp), so that the close itself succeeds.
+// Closes a file written by this process, its flush first: a write that fails leaves the rest of
+// the file to be discarded by its driver (core/io/h5_writing_driver.hpp), so that the close
+// itself succeeds, and the driver names the failure (errno). A shared file (MPI-IO) is closed as
+// it is, in one collective call.
 herr_t close_written(hid_t id) {
-  if (H5Fflush(id, H5F_SCOPE_LOCAL) < 0) {
-    const int err = errno;
-    H5Fclose(id);
-    errno = err;
-    return -1;
-  }
-  if (H5Fclose(id) < 0) return -1;
+  if (!written_by_one_process(id)) return H5Fclose(id);
+  const bool flushed = H5Fflush(id, H5F_SCOPE_LOCAL) >= 0;
+  const bool closed = H5Fclose(id) >= 0;
   errno = last_close_error();
-  return errno == 0 ? 0 : -1;
+  return flushed && closed && errno == 0 ? 0 : -1;
 }
 
 }  // namespace

@@ -26,7 +26,7 @@ struct WritingFile {
   haddr_t eoa = 0, eof = 0;
   dev_t device = 0;
   ino_t inode = 0;
-  bool discarded = false;  // a write failed: the rest is not written
+  int failure = 0;  // the errno of the first write that failed: the rest is not written
 };
 
 WritingFile* of(H5FD_t* f) { return reinterpret_cast<WritingFile*>(f); }
@@ -34,9 +34,8 @@ const WritingFile* of(const H5FD_t* f) { return reinterpret_cast<const WritingFi
 
 // The failing call's errno stays for the caller's message (core/io/h5.cpp).
 herr_t failed(WritingFile* f) {
-  const int err = errno;
-  f->discarded = true;
-  errno = err;
+  f->failure = errno ? errno : EIO;
+  errno = f->failure;
   return -1;
 }
 
@@ -64,7 +63,9 @@ H5FD_t* open_file(const char* name, unsigned flags, hid_t, haddr_t) {
 
 herr_t close_file(H5FD_t* file) {
   WritingFile* f = of(file);
-  if (::close(f->fd) != 0 && !f->discarded) close_error = errno;
+  // HDF5 passes over some failed writes (a metadata flush's): the first is reported here.
+  const bool closed = ::close(f->fd) == 0;
+  close_error = f->failure ? f->failure : closed ? 0 : errno;
   delete f;
   return 0;
 }
@@ -118,7 +119,7 @@ herr_t read(H5FD_t* file, H5FD_mem_t, hid_t, haddr_t addr, size_t size, void* bu
 
 herr_t write(H5FD_t* file, H5FD_mem_t, hid_t, haddr_t addr, size_t size, const void* buffer) {
   WritingFile* f = of(file);
-  if (f->discarded) return 0;
+  if (f->failure) return 0;
   const auto* in = static_cast<const unsigned char*>(buffer);
   while (size > 0) {
     const ssize_t n = ::pwrite(f->fd, in, size, static_cast<off_t>(addr));
@@ -137,7 +138,7 @@ herr_t write(H5FD_t* file, H5FD_mem_t, hid_t, haddr_t addr, size_t size, const v
 
 herr_t truncate(H5FD_t* file, hid_t, hbool_t) {
   WritingFile* f = of(file);
-  if (f->discarded || f->eoa == f->eof) return 0;
+  if (f->failure || f->eoa == f->eof) return 0;
   if (::ftruncate(f->fd, static_cast<off_t>(f->eoa)) != 0) return failed(f);
   f->eof = f->eoa;
   return 0;
@@ -191,6 +192,19 @@ bool use_writing_driver(hid_t access) {
   const hid_t driver = writing_driver();
   return driver >= 0 && H5Pset_driver(access, driver, nullptr) >= 0;
 #endif
+}
+
+bool written_by_one_process(hid_t file) {
+#if H5_VERSION_GE(1, 13, 0)
+  const hid_t driver = H5FD_SEC2;
+#else
+  const hid_t driver = writing_driver();
+#endif
+  const hid_t access = H5Fget_access_plist(file);
+  if (access < 0) return false;
+  const bool ours = H5Pget_driver(access) == driver;
+  H5Pclose(access);
+  return ours;
 }
 
 int last_close_error() {

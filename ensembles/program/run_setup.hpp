@@ -99,8 +99,10 @@ void naming_failures(const std::string& path, Write write) {
   } catch (const Error& failure) {
     if (failure.code() != ExitCode::io) throw;
     const int err = errno;
-    throw Error(ExitCode::io, "cannot write '" + path + "': " + failure.what() +
-                                  (err ? std::string(" (") + std::strerror(err) + ")" : ""));
+    const std::string what = failure.what(), reason = err ? std::strerror(err) : "";
+    const bool named = reason.empty() || what.find(reason) != std::string::npos;
+    throw Error(ExitCode::io, "cannot write '" + path + "': " + what +
+                                  (named ? std::string() : " (" + reason + ")"));
   }
 }
 
