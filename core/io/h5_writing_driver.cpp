@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <mutex>
+#include <new>
 
 namespace qmaps::h5 {
 namespace {
@@ -53,7 +54,12 @@ H5FD_t* open_file(const char* name, unsigned flags, hid_t, haddr_t) {
     errno = err;
     return nullptr;
   }
-  auto* f = new WritingFile{};
+  auto* f = new (std::nothrow) WritingFile{};  // no exception may cross HDF5
+  if (!f) {
+    ::close(fd);
+    errno = ENOMEM;
+    return nullptr;
+  }
   f->fd = fd;
   f->eof = static_cast<haddr_t>(info.st_size);
   f->device = info.st_dev;
