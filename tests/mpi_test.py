@@ -223,7 +223,8 @@ class Mpi(unittest.TestCase):
                     self.assert_nothing_written(d, "out.h5")
                     with h5py.File(d / "out.h5.ckpt") as f:
                         reached = int(f["final/state"].attrs["step"])
-                    self.assertGreater(reached, step, f"no checkpoint further on; mpirun said {err!r}")
+                    self.assertGreater(reached, step,
+                                       f"no checkpoint further on; mpirun said {err!r}")
                     step = reached
         finally:
             for b in busy:
