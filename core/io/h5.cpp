@@ -224,6 +224,12 @@ Handle& Handle::operator=(Handle&& o) noexcept {
   return *this;
 }
 
+herr_t Handle::close() {
+  const auto close = close_;
+  const hid_t id = release();
+  return id >= 0 && close ? close(id) : 0;
+}
+
 void Handle::reset() {
   // A group or dataset closed already with its file (H5F_CLOSE_STRONG) is not closed again.
   if (id_ >= 0 && close_ && H5Iis_valid(id_) > 0) close_(id_);
@@ -413,12 +419,11 @@ hid_t create_file(const std::string& path, bool shared = false) {
   return H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.id());
 }
 
-// Closes a file written by this process, its flush first: a write that fails leaves the rest of
-// the file to be discarded by its driver (core/io/h5_writing_driver.hpp), so that the close
-// itself succeeds, and the driver names the failure (errno). A shared file (MPI-IO) is closed as
-// it is, in one collective call.
+// Closes a file written by this process alone, its flush first: a write that fails leaves the
+// rest of the file to be discarded by its driver (core/io/h5_writing_driver.hpp), so that the
+// close itself succeeds, and the driver names the failure (errno). A shared file (MPI-IO) is
+// closed by H5Fclose, in one collective call.
 herr_t close_written(hid_t id) {
-  if (!written_by_one_process(id)) return H5Fclose(id);
   const bool flushed = H5Fflush(id, H5F_SCOPE_LOCAL) >= 0;
   const bool closed = H5Fclose(id) >= 0;
   errno = last_close_error();
@@ -434,9 +439,8 @@ File File::create(const std::string& path) {
 }
 
 void File::close() {
-  const hid_t id = h_.release();
   errno = 0;
-  if (id >= 0 && close_written(id) < 0) {
+  if (h_.close() < 0) {
     const int err = errno;
     throw Error(ExitCode::io, "cannot complete '" + path_ + "'" +
                                   (err ? std::string(": ") + std::strerror(err) : std::string()));
@@ -476,7 +480,7 @@ File AtomicFile::create_hdf5(int deflate) const {
     throw Error(ExitCode::io, "cannot create output file '" + path_ + "'" +
                                   (err ? ": " + files::reason(err) : std::string()));
   }
-  return File(Handle(id, close_written), temporary_, deflate, shared_);
+  return File(Handle(id, shared_ ? H5Fclose : close_written), temporary_, deflate, shared_);
 }
 
 AtomicFile::~AtomicFile() { discard(); }

@@ -27,6 +27,7 @@ class Handle {
   ~Handle() { reset(); }
   hid_t id() const { return id_; }
   void reset();
+  herr_t close();  // closes now (the close's status; 0 where there was nothing to close)
   hid_t release() {  // gives up the id without closing it
     const hid_t id = id_;
     id_ = H5I_INVALID_HID;

@@ -200,19 +200,6 @@ bool use_writing_driver(hid_t access) {
 #endif
 }
 
-bool written_by_one_process(hid_t file) {
-#if H5_VERSION_GE(1, 13, 0)
-  const hid_t driver = H5FD_SEC2;
-#else
-  const hid_t driver = writing_driver();
-#endif
-  const hid_t access = H5Fget_access_plist(file);
-  if (access < 0) return false;
-  const bool ours = H5Pget_driver(access) == driver;
-  H5Pclose(access);
-  return ours;
-}
-
 int last_close_error() {
   const int err = close_error;
   close_error = 0;

@@ -12,9 +12,6 @@ namespace qmaps::h5 {
 // Sets the driver on a file-access property list; false where HDF5 refuses it.
 bool use_writing_driver(hid_t access);
 
-// Whether the open file `file` goes through that driver.
-bool written_by_one_process(hid_t file);
-
 // Why the last file of this driver closed on this thread is not complete (0: it is): the first
 // write that failed, which HDF5 may have passed over, or close(2)'s error. HDF5 is not told at
 // its close, which would then fail as above; File::close reports it.
