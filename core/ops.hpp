@@ -20,6 +20,12 @@
 //                     room for a whole batch: the lanes after them are overwritten); their count
 //   lane_index<V>()   each lane's index, as a value
 //
+// A batch's op is chosen by its xsimd architecture A (core/isa_list.hpp names one per ISA), never
+// by its lane count: form<A> is AVX-512F at 512 bits, AVX2 with FMA at 256 bits, SSE2 at 128 bits
+// (A or an architecture derived from it, as xsimd derives sse4_2 from sse2), or the fallback, which
+// is correct for any other architecture (a 4-lane ISA without FMA takes std::fma per lane). Every
+// ISA of the list must take one of the three forms (checked below).
+//
 // This is the only file that touches xsimd or intrinsics.
 #include <array>
 #include <bit>
@@ -32,6 +38,8 @@
 
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
+
+#include "core/isa_list.hpp"
 
 namespace qmaps::ops {
 
@@ -101,6 +109,27 @@ template <class A>
 using batch = xsimd::batch<double, A>;
 
 namespace detail {
+// The form an architecture's ops take. xsimd 8 derives avx512f and sse2 from generic, avx2 from
+// avx and fma3<avx2> from avx2 (not avx512f from fma3<avx2>), and its x86 architectures align to
+// their register's width: an architecture is tested for its base and its width, the widest first.
+enum class Form { avx512f, avx2_fma, sse2, fallback };
+template <class A>
+inline constexpr Form form =
+    std::is_base_of_v<xsimd::avx512f, A> && A::alignment() == 64               ? Form::avx512f
+    : std::is_base_of_v<xsimd::fma3<xsimd::avx2>, A> && A::alignment() == 32   ? Form::avx2_fma
+    : std::is_base_of_v<xsimd::sse2, A> && A::alignment() == 16                ? Form::sse2
+                                                                               : Form::fallback;
+template <class A>
+inline constexpr std::size_t form_lanes = form<A> == Form::avx512f    ? 8
+                                          : form<A> == Form::avx2_fma ? 4
+                                          : form<A> == Form::sse2     ? 2
+                                                                      : 0;  // the fallback
+// Every ISA of the list takes the form of its width, never the fallback.
+#define QMAPS_OPS_FORM_OF(name, arch, lanes, ...) \
+  static_assert(form_lanes<arch> == lanes, #name ": no form of its width in core/ops.hpp");
+QMAPS_FOR_EACH_ISA(QMAPS_OPS_FORM_OF)
+#undef QMAPS_OPS_FORM_OF
+
 // Applies std::fma to each lane, with c negated when `subtract`: the exactly rounded fallback
 // for an ISA without an FMA unit.
 template <class A>
@@ -112,13 +141,21 @@ inline batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) 
   for (std::size_t i = 0; i < x.size(); ++i) x[i] = std::fma(x[i], y[i], subtract ? -z[i] : z[i]);
   return batch<A>::load_aligned(x.data());
 }
+// Applies the scalar op f to each lane: the fallback's sqrt and floor.
+template <class A, class F>
+inline batch<A> per_lane(batch<A> a, F f) {
+  alignas(64) std::array<double, batch<A>::size> x;
+  a.store_aligned(x.data());
+  for (double& v : x) v = f(v);
+  return batch<A>::load_aligned(x.data());
+}
 }  // namespace detail
 
 template <class A>
 inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
-  if constexpr (batch<A>::size == 8) {
+  if constexpr (detail::form<A> == detail::Form::avx512f) {
     return _mm512_fmadd_pd(a, b, c);  // xsimd 8 falls back to a·b + c on avx512f: not fused
-  } else if constexpr (batch<A>::size == 4) {  // the 4-lane ISA of the list has FMA
+  } else if constexpr (detail::form<A> == detail::Form::avx2_fma) {
     return _mm256_fmadd_pd(a, b, c);
   } else {
     return detail::fma_per_lane(a, b, c, false);
@@ -126,9 +163,9 @@ inline batch<A> fma(batch<A> a, batch<A> b, batch<A> c) {
 }
 template <class A>
 inline batch<A> fms(batch<A> a, batch<A> b, batch<A> c) {
-  if constexpr (batch<A>::size == 8) {
+  if constexpr (detail::form<A> == detail::Form::avx512f) {
     return _mm512_fmsub_pd(a, b, c);
-  } else if constexpr (batch<A>::size == 4) {
+  } else if constexpr (detail::form<A> == detail::Form::avx2_fma) {
     return _mm256_fmsub_pd(a, b, c);
   } else {
     return detail::fma_per_lane(a, b, c, true);
@@ -136,30 +173,40 @@ inline batch<A> fms(batch<A> a, batch<A> b, batch<A> c) {
 }
 template <class A>
 inline batch<A> sqrt(batch<A> a) {
-  if constexpr (batch<A>::size == 8)  // xsimd's form reads an undefined register
-    return _mm512_maskz_sqrt_pd(0xFF, a);
-  else
+  if constexpr (detail::form<A> == detail::Form::avx512f)
+    return _mm512_maskz_sqrt_pd(0xFF, a);  // xsimd's form reads an undefined register
+  else if constexpr (detail::form<A> != detail::Form::fallback)
     return xsimd::sqrt(a);
+  else
+    return detail::per_lane(a, [](double x) { return std::sqrt(x); });
 }
 template <class A>
 inline batch<A> abs(batch<A> a) { return xsimd::abs(a); }
 template <class A>
 inline batch<A> floor(batch<A> a) {
-  if constexpr (batch<A>::size == 8)  // xsimd's form reads an undefined register
+  if constexpr (detail::form<A> == detail::Form::avx512f)  // xsimd's form: an undefined register
     return _mm512_maskz_roundscale_pd(0xFF, a, _MM_FROUND_TO_NEG_INF);
-  else
+  else if constexpr (detail::form<A> != detail::Form::fallback)
     return xsimd::floor(a);
+  else
+    return detail::per_lane(a, [](double x) { return std::floor(x); });
 }
 template <class A>
 inline batch<A> split_exponent(batch<A> a, batch<A>& e) {  // normal a only: log scales the rest
-  if constexpr (batch<A>::size == 8) {  // AVX-512 has both parts exactly, as doubles
+  if constexpr (detail::form<A> == detail::Form::avx512f) {  // both parts exactly, as doubles
     e = batch<A>(_mm512_maskz_getexp_pd(0xFF, a)) + batch<A>(1.0);
     return _mm512_maskz_getmant_pd(0xFF, a, _MM_MANT_NORM_p5_1, _MM_MANT_SIGN_src);
-  } else {
+  } else if constexpr (detail::form<A> != detail::Form::fallback) {
     xsimd::batch<std::int64_t, A> k;
     const batch<A> m = xsimd::frexp(a, k);
     e = xsimd::to_float(k);
     return m;
+  } else {
+    alignas(64) std::array<double, batch<A>::size> m, k;
+    a.store_aligned(m.data());
+    for (std::size_t l = 0; l < m.size(); ++l) m[l] = split_exponent(m[l], k[l]);
+    e = batch<A>::load_aligned(k.data());
+    return batch<A>::load_aligned(m.data());
   }
 }
 template <class A>
@@ -172,12 +219,19 @@ template <class A>
 inline bool all(xsimd::batch_bool<double, A> m) { return xsimd::all(m); }
 template <class A>
 inline std::uint64_t bits(xsimd::batch_bool<double, A> m) {
-  if constexpr (batch<A>::size == 8)
+  if constexpr (detail::form<A> == detail::Form::avx512f) {
     return static_cast<__mmask8>(m);
-  else if constexpr (batch<A>::size == 4)
+  } else if constexpr (detail::form<A> == detail::Form::avx2_fma) {
     return static_cast<std::uint64_t>(_mm256_movemask_pd(m));
-  else
+  } else if constexpr (detail::form<A> == detail::Form::sse2) {
     return static_cast<std::uint64_t>(_mm_movemask_pd(m));
+  } else {
+    std::array<bool, batch<A>::size> lanes;
+    m.store_unaligned(lanes.data());
+    std::uint64_t out = 0;
+    for (std::size_t l = 0; l < lanes.size(); ++l) out |= std::uint64_t{lanes[l]} << l;
+    return out;
+  }
 }
 template <class A>
 inline xsimd::batch_bool<double, A> negate(xsimd::batch_bool<double, A> m) { return !m; }
@@ -220,39 +274,52 @@ inline constexpr auto packed_halves = [] {
 template <class A>
 inline std::size_t compress(double* p, xsimd::batch_bool<double, A> m, batch<A> v) {
   const std::uint64_t b = bits(m);
-  if constexpr (batch<A>::size == 8) {
+  if constexpr (detail::form<A> == detail::Form::avx512f) {
     _mm512_storeu_pd(p, _mm512_maskz_compress_pd(static_cast<__mmask8>(b), v));
     return static_cast<std::size_t>(std::popcount(b));
-  } else if constexpr (batch<A>::size == 4) {
+  } else if constexpr (detail::form<A> == detail::Form::avx2_fma) {
     const __m256i order = _mm256_loadu_si256(
         reinterpret_cast<const __m256i*>(detail::packed_halves[b].data()));
     _mm256_storeu_pd(p, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), order)));
     return static_cast<std::size_t>(std::popcount(b));
-  } else {
+  } else if constexpr (detail::form<A> == detail::Form::sse2) {
     _mm_storeu_pd(p, b == 2 ? _mm_unpackhi_pd(v, v) : __m128d(v));
     return static_cast<std::size_t>((b & 1) + (b >> 1));
+  } else {
+    const auto x = lanes_of(v);
+    std::size_t n = 0;
+    for (std::size_t l = 0; l < x.size(); ++l) {
+      p[n] = x[l];
+      n += b >> l & 1;
+    }
+    return n;
   }
 }
 
 // maxpd(x, y) = x > y ? x : y and minpd(x, y) = x < y ? x : y (the second operand on equality
-// or NaN), so max(a, b) = maxpd(b, a) and min(a, b) = minpd(b, a), as the scalar rule below.
+// or NaN), so max(a, b) = maxpd(b, a) and min(a, b) = minpd(b, a), as the scalar rule below; the
+// fallback selects by that rule.
 template <class A>
 inline batch<A> max(batch<A> a, batch<A> b) {
-  if constexpr (batch<A>::size == 8)
+  if constexpr (detail::form<A> == detail::Form::avx512f)
     return _mm512_maskz_max_pd(0xFF, b, a);  // the unmasked form reads an undefined register
-  else if constexpr (batch<A>::size == 4)
+  else if constexpr (detail::form<A> == detail::Form::avx2_fma)
     return _mm256_max_pd(b, a);
-  else
+  else if constexpr (detail::form<A> == detail::Form::sse2)
     return _mm_max_pd(b, a);
+  else
+    return xsimd::select(b > a, b, a);
 }
 template <class A>
 inline batch<A> min(batch<A> a, batch<A> b) {
-  if constexpr (batch<A>::size == 8)
+  if constexpr (detail::form<A> == detail::Form::avx512f)
     return _mm512_maskz_min_pd(0xFF, b, a);
-  else if constexpr (batch<A>::size == 4)
+  else if constexpr (detail::form<A> == detail::Form::avx2_fma)
     return _mm256_min_pd(b, a);
-  else
+  else if constexpr (detail::form<A> == detail::Form::sse2)
     return _mm_min_pd(b, a);
+  else
+    return xsimd::select(b < a, b, a);
 }
 
 // ---- written once for both --------------------------------------------------------------------
