@@ -9,46 +9,15 @@
 #include <string>
 
 #include "ensembles/program/commands.hpp"
+#include "tests/fixtures.hpp"
 
 namespace qmaps::fuzz {
 
-inline const char* base_config = R"([map]
-name = "suris"
-A = 0.7
-B = 0.3
-alpha = 0.9
-h = 0.1
-
-[ensemble]
-kind = "box"
-orbits = 16
-seed = 1
-q1 = [-0.5, 0.5]
-q2 = [-0.5, 0.5]
-p1 = [-0.5, 0.5]
-p2 = [-0.5, 0.5]
-
-[run]
-steps = 12
-
-[[histogram]]
-name = "q1q2"
-x = "q1"
-y = "q2"
-x_range = [-1.0, 1.0]
-y_range = [-1.0, 1.0]
-bins = 8
-
-[[section]]
-name = "s"
-plane = "q1"
-x = "q2"
-y = "p2"
-cap = 3
-bins = 8
-x_range = [-1.0, 1.0]
-y_range = [-1.0, 1.0]
-)";
+// The configuration of that run (tests/fixtures/small-suris-box.toml).
+inline const std::string& base_config() {
+  static const std::string text = qmaps::testing::fixture("small-suris-box.toml");
+  return text;
+}
 
 // The scratch folder (made once, the working directory from then on).
 inline std::filesystem::path scratch() {
@@ -56,7 +25,7 @@ inline std::filesystem::path scratch() {
     char name[] = "/tmp/qmaps-fuzz-XXXXXX";
     const std::filesystem::path d = mkdtemp(name);
     std::filesystem::current_path(d);
-    std::ofstream("base.toml") << base_config;
+    std::ofstream("base.toml") << base_config();
     std::ostringstream log;
     RunOptions run;
     run.config_path = "base.toml";

@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const Error&) {
   }
   static const bool written = [] {
-    std::string config = fuzz::base_config;
+    std::string config = fuzz::base_config();
     config.replace(config.find("kind = \"box\""), 12, "kind = \"file\"\npath = \"input.h5\"");
     std::ofstream("again.toml") << config;
     return true;

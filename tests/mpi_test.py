@@ -35,12 +35,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
 TIMEOUT = 300  # seconds, per process
 INTERRUPT = {"QMAPS_SIGNAL_AT_STEP": "60:INT"}
 SIGNALS = 20  # SIGTERMs sent to mpirun, each to a run resumed from the previous one's checkpoint
-TRAJECTORIES = """
-[[trajectory]]
-name = "across"
-orbits = [1000, 2, 500, 333, 667]
-every = 10
-"""
+TRAJECTORIES = small_run.fixture("trajectory-across.toml")
 
 
 def argv(out, *extra, config="c.toml", steps=120, binary=BINARY):

@@ -13,11 +13,17 @@ SOURCE_DIR = pathlib.Path(os.environ.get("QMAPS_SOURCE_DIR", pathlib.Path(__file
 BINARY = pathlib.Path(os.environ.get("QMAPS_BINARY", SOURCE_DIR / "build" / "qmaps"))
 PRESET = SOURCE_DIR / "ensembles" / "presets" / "suris.toml"
 TOOLS = SOURCE_DIR / "tools"
+FIXTURES = pathlib.Path(__file__).parent / "fixtures"  # shared with the C++ tests and fuzzers
 PACKAGE_DIR = BINARY.parent / "python"
 if str(PACKAGE_DIR) not in os.environ.get("PYTHONPATH", "").split(os.pathsep):
     os.environ["PYTHONPATH"] = os.pathsep.join(
         p for p in (str(PACKAGE_DIR), os.environ.get("PYTHONPATH")) if p)
 sys.path.insert(0, str(PACKAGE_DIR))
+
+
+def fixture(name):
+    """The text of the configuration tests/fixtures/`name` (tests/fixtures.hpp reads the same)."""
+    return (FIXTURES / name).read_text()
 
 
 def q2_section(name, mode):
