@@ -1,7 +1,7 @@
 #pragma once
 // What one call of the runner does: advance an ensemble from step `first` to step `last` of a run
-// of `total` steps. Invariants are sampled at every multiple of `stride` and at step `total`, so
-// a run cut into segments (checkpoint and resume) samples exactly as the uninterrupted run.
+// of `total` steps, sampling at every multiple of `stride` and at step `total`
+// (core/sample_schedule.hpp).
 #include <cmath>
 
 namespace qmaps {
@@ -15,7 +15,6 @@ struct RunPlan {
   bool track_invariants = true;
 
   double escape_bound2() const { return escape_bound * escape_bound; }
-  bool samples_at(long long n) const { return n % stride == 0 || n == total; }
 };
 
 }  // namespace qmaps

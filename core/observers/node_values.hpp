@@ -26,4 +26,17 @@ std::array<V, 5> node_values(const typename Map::Coeffs& c, const typename Map::
   return x;
 }
 
+// One coordinate of the node: the same value node_values gives for it.
+template <class Map, class V>
+V node_value(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
+             Coordinate coordinate) {
+  const auto k = static_cast<std::size_t>(coordinate);
+  if (coordinate == Coordinate::t) {
+    if constexpr (Map::time_per_orbit) return Map::clock(s);
+    return V(0.0);
+  }
+  if (is_momentum(coordinate)) return Map::phase(c, s)[k];
+  return Map::position(c, s)[k];
+}
+
 }  // namespace qmaps
