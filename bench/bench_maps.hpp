@@ -16,6 +16,8 @@ struct BenchMap {
   std::string map;
   ParamValues params;
   bool slow;  // solves an equation per step (case3) or evaluates many forces (flow at order 8)
+  int forces_per_step;  // MapFacts': 0 where the map is not a splitting
+  double speed_budget;  // MapFacts': its least rate against Suris'; 0: none
   long long steps() const { return slow ? bench_size().slow_steps : bench_size().steps; }
 };
 
@@ -23,7 +25,8 @@ inline std::span<const BenchMap> bench_maps() {
   static const std::vector<BenchMap> maps = [] {
     std::vector<BenchMap> out;
     for (const MapEntry& m : catalogue())
-      out.push_back({std::string(m.name), param_values(m.facts->example), m.facts->slow});
+      out.push_back({std::string(m.name), param_values(m.facts->example), m.facts->slow,
+                     m.facts->forces_per_step, m.facts->speed_budget});
     return out;
   }();
   return maps;

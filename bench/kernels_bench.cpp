@@ -27,6 +27,9 @@ void step_ensemble(benchmark::State& state, const BenchMap& bench, Isa isa) {
   }
   describe(state, bench.map, isa_name(isa), static_cast<double>(orbits),
            static_cast<double>(steps), threads);
+  // The map's facts that bench/report states beside its rate.
+  state.counters["forces_per_step"] = bench.forces_per_step;
+  state.counters["speed_budget"] = bench.speed_budget;
 }
 
 const bool registered = [] {

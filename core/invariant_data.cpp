@@ -1,5 +1,7 @@
 #include "core/invariant_data.hpp"
 
+#include <algorithm>
+
 #include "core/execution.hpp"
 #include "core/run_plan.hpp"
 
@@ -7,9 +9,9 @@ namespace qmaps {
 
 std::vector<std::size_t> discovery_variables(const Model& model) {
   std::vector<std::size_t> out;
-  const auto names = model.state_names();
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (names[k] != "t_n" && names[k] != "t_n+1") out.push_back(k);
+  const auto clock = model.clock_state();
+  for (std::size_t k = 0; k < model.state_names().size(); ++k)
+    if (std::find(clock.begin(), clock.end(), k) == clock.end()) out.push_back(k);
   return out;
 }
 

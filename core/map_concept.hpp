@@ -24,7 +24,8 @@
 //   time(c, n, s)                 physical time of node n
 //   reversed<V>(c, s)             the state whose steps retrace s backward
 //   time_per_orbit                true when each orbit keeps its own clock in its state; then
-//   clock<V>(s)                   the orbit's physical time
+//   clock<V>(s)                   the orbit's physical time, and
+//   clock_state                   the state components that hold it (std::array of indices)
 //   reports_faults                true when step solves an equation and returns fault codes
 //   to_plane<V>(c, x, k, ds)      optional, for a map that integrates a flow: the phase point x
 //                                 carried by that flow until q_k has moved by ds (Hénon's
@@ -70,6 +71,9 @@ struct MapFacts {
   double drift_tolerance;     // max |I_n − I_0| / mean |I_0| over 10⁵ steps, every invariant
   std::string_view preset;    // ensembles/presets/<preset>.toml
   bool slow;                  // solves an equation or evaluates many forces per step
+  bool volume_preserving;     // det J = 1: its Lyapunov spectrum sums to 0 (docs/chaos.md)
+  int forces_per_step;        // a splitting's force evaluations per step; 0: not a splitting
+  double speed_budget;        // the least rate against Suris' (same ISA, 2 threads); 0: none
 };
 
 template <class M>
@@ -102,6 +106,7 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
                                std::declval<typename M::template State<double>&>()))>) &&
     (!M::time_per_orbit || requires(typename M::template State<double> s) {
       { M::clock(s) } -> std::same_as<double>;
+      { M::clock_state.size() } -> std::convertible_to<std::size_t>;
     });
 
 // Whether the map integrates a flow that carries a phase point to a position plane.

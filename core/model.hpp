@@ -56,7 +56,7 @@ class Model {
                        Observers* observers = nullptr) const = 0;
   // The orbits of a block of path x for this map (its chaos record may take fewer chains), and
   // the blocks [first, first + count) advanced on the calling thread alone, count a multiple of
-  // the block: what the runner of several ensembles (core/sweep_runner.hpp) schedules.
+  // the block: what the runner (core/runner.hpp) schedules.
   virtual std::size_t block_orbits(const Execution& x) const = 0;
   virtual void advance_range(Ensemble& e, std::size_t first, std::size_t count,
                              const RunPlan& plan, const Execution& x,
@@ -76,6 +76,8 @@ class Model {
   // time_per_orbit()).
   virtual double time(const Ensemble& e, std::size_t orbit) const = 0;
   virtual bool time_per_orbit() const = 0;
+  // The state components that hold the orbit's clock (none unless time_per_orbit()).
+  virtual std::span<const std::size_t> clock_state() const = 0;
   // Whether the map integrates a flow that carries an orbit to a position plane (a section of
   // mode exact).
   virtual bool flows_to_plane() const = 0;
@@ -88,9 +90,6 @@ class Model {
   // Why orbit's chaos record (read back from a file) cannot be one a run wrote; empty when it can,
   // and always for a plain map.
   virtual std::string invalid_record(const Ensemble& e, std::size_t orbit) const = 0;
-  // a·b + c computed in a batch and in a scalar inside the map's `isa` translation unit: both
-  // round twice there, or contraction is on (tests/contraction_test.cpp).
-  virtual std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const = 0;
 };
 
 }  // namespace qmaps

@@ -52,7 +52,8 @@ class ModelOf final : public Model {
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
-    run<Map>(c_, e, plan, within(x), observers);
+    const RunPart part{this, &e, observers};
+    advance_parts(std::span(&part, 1), plan, x);
   }
   std::size_t block_orbits(const Execution& x) const override {
     return qmaps::block_orbits(within(x));
@@ -60,9 +61,6 @@ class ModelOf final : public Model {
   void advance_range(Ensemble& e, std::size_t first, std::size_t count, const RunPlan& plan,
                      const Execution& x, Observers* observers) const override {
     qmaps::advance_range<Map>(c_, e, first, count, plan, within(x), observers);
-  }
-  std::array<double, 2> contraction_probe(Isa isa, double a, double b, double c) const override {
-    return simd_path<Map>(isa).contraction_probe(a, b, c);
   }
 
   Phase phase(const Ensemble& e, std::size_t orbit) const override {
@@ -101,6 +99,10 @@ class ModelOf final : public Model {
     return Map::time(c_, e.step, state_of(e, orbit));
   }
   bool time_per_orbit() const override { return Map::time_per_orbit; }
+  std::span<const std::size_t> clock_state() const override {
+    if constexpr (Map::time_per_orbit) return Map::clock_state;
+    return {};
+  }
   bool flows_to_plane() const override { return FlowsToPlane<Map>; }
   void reverse(Ensemble& e) const override {
     for (std::size_t i = 0; i < e.padded; ++i) {

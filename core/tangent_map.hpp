@@ -50,6 +50,12 @@ struct Tangent {
   static constexpr auto params = Map::params;
   static constexpr std::size_t max_invariants = Map::max_invariants;
   static constexpr bool time_per_orbit = Map::time_per_orbit;
+  static constexpr auto clock_state = [] {  // the base state's components come first
+    if constexpr (Map::time_per_orbit)
+      return Map::clock_state;
+    else
+      return std::array<std::size_t, 0>{};
+  }();
   static constexpr bool reports_faults = Map::reports_faults;
   static constexpr MapFacts facts = Map::facts;
   // Its record fills the registers: blocks of one chain (the runner clamps). More spill (measured:

@@ -56,7 +56,8 @@ struct Case2 : TwoStep<Case2> {
       .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}}},
       .step = "h", .order = 2,
       .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
-      .preset = "case2", .slow = false};
+      .preset = "case2", .slow = false,
+      .volume_preserving = true, .forces_per_step = 0, .speed_budget = 0.45};
   static constexpr std::array<ParamSpec, 3> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},
       {"alpha", "quartic coupling: alpha (q1^4 + q2^4) + 6 alpha q1^2 q2^2"},
@@ -161,7 +162,8 @@ struct Case2Staggered : Case2 {
       .example = Case2::facts.example, .escaping = Case2::facts.escaping,
       .step = "h", .order = 2,
       .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
-      .preset = "case2-staggered", .slow = false};
+      .preset = "case2-staggered", .slow = false,
+      .volume_preserving = true, .forces_per_step = 0, .speed_budget = 0};
   static constexpr std::array<std::string_view, 4> state_names = {"q1_n", "q2_n-1", "q1_n+1",
                                                                    "q2_n"};
 

@@ -60,7 +60,8 @@ struct Case2Hky : TwoStep<Case2Hky> {
       .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}}},
       .step = "h", .order = 2,
       .reversal_tolerance = 1e-11, .drift_tolerance = 3e-11,
-      .preset = "case2-hky", .slow = false};
+      .preset = "case2-hky", .slow = false,
+      .volume_preserving = false, .forces_per_step = 0, .speed_budget = 0.45};
   static constexpr double no_default = std::numeric_limits<double>::quiet_NaN();
   static constexpr std::array<ParamSpec, 9> params = {{
       {"A", "coefficient of q1^2 and of q2^2 (B = A)"},

@@ -52,13 +52,15 @@ struct Case3 {
   using State = std::array<V, 7>;
   static constexpr std::size_t max_invariants = 2;
   static constexpr bool time_per_orbit = true;
+  static constexpr std::array<std::size_t, 2> clock_state = {4, 5};  // t_n, t_n+1
   static constexpr bool reports_faults = true;
   static constexpr MapFacts facts = {
       .example = {{{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}}},
       .escaping = {{{"A", 0.7}, {"alpha", -0.4}, {"ds", 0.1}}},
       .step = "ds", .order = 2,
       .reversal_tolerance = 1e-10, .drift_tolerance = 1e-10,  // measured 2.6e-11, 1.1e-11
-      .preset = "case3", .slow = true};
+      .preset = "case3", .slow = true,
+      .volume_preserving = false, .forces_per_step = 0, .speed_budget = 0.1};
   static constexpr int max_iterations = 40;
 
   struct Coeffs {

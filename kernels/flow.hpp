@@ -257,7 +257,8 @@ struct Flow : detail::SplitFlow {
                     {"h", 0.05}}},
       .step = "h", .order = 0,
       .reversal_tolerance = 1e-11, .drift_tolerance = 6e-3,  // measured 1.2e-3 (h = 0.1)
-      .preset = "case4-flow", .slow = true};
+      .preset = "case4-flow", .slow = true,
+      .volume_preserving = true, .forces_per_step = 15, .speed_budget = 0};  // 15: at order 8
   static constexpr std::array<ParamSpec, 7> params = [] {
     std::array<ParamSpec, 7> p{};
     std::copy(detail::flow_params.begin(), detail::flow_params.end(), p.begin());
@@ -284,7 +285,8 @@ struct Leapfrog : detail::SplitFlow {
       .example = Flow::facts.example, .escaping = Flow::facts.escaping,
       .step = "h", .order = 2,
       .reversal_tolerance = 1e-11, .drift_tolerance = 0.15,  // measured 3.1e-2
-      .preset = "leapfrog", .slow = false};
+      .preset = "leapfrog", .slow = false,
+      .volume_preserving = true, .forces_per_step = 1, .speed_budget = 0};
   static constexpr std::array<ParamSpec, 6> params = detail::flow_params;
 
   static Coeffs coefficients(std::span<const double> p) { return make(name, p, 2); }

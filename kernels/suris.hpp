@@ -45,7 +45,8 @@ struct Suris : TwoStep<Suris> {
       .escaping = {{{"A", 0.7}, {"B", 0.3}, {"alpha", -0.4}, {"h", 0.1}}},
       .step = "h", .order = 2,
       .reversal_tolerance = 1e-11, .drift_tolerance = 2e-11,
-      .preset = "suris", .slow = false};
+      .preset = "suris", .slow = false,
+      .volume_preserving = true, .forces_per_step = 0, .speed_budget = 0};
   static constexpr std::array<ParamSpec, 4> params = {{
       {"A", "coefficient of q1^2 in the potential"},
       {"B", "coefficient of q2^2 in the potential"},

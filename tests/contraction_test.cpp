@@ -6,8 +6,9 @@
 
 #include <cmath>
 
+#include "core/dispatch.hpp"
 #include "isas_run.hpp"
-#include "kernels/catalogue.hpp"
+#include "kernels/maps.hpp"
 
 namespace qmaps {
 namespace {
@@ -16,17 +17,16 @@ TEST(Contraction, KernelTranslationUnitsRoundMultiplyAndAddSeparately) {
   const double a = 1 + std::ldexp(1.0, -30), b = 1 - std::ldexp(1.0, -30), c = -1;
   ASSERT_NE(std::fma(a, b, c), 0.0) << "the probe's inputs must tell fused from unfused";
   const auto isas = testing::isas_to_run();
-  for (const MapEntry& map : catalogue()) {
-    const auto model = make_model(map.name, param_values(map.facts->example));
+  kernels::for_each_map([&]<class Map>(Map) {
     for (Isa isa : isas) {
-      const auto [batch, scalar] = model->contraction_probe(isa, a, b, c);
-      EXPECT_EQ(batch, 0.0) << "batch a*b+c contracted in the " << map.name << " " << isa_name(isa)
-                            << " unit";
-      EXPECT_EQ(scalar, 0.0) << "scalar a*b+c contracted in the " << map.name << " "
+      const auto [batch, scalar] = simd_path<Map>(isa).contraction_probe(a, b, c);
+      EXPECT_EQ(batch, 0.0) << "batch a*b+c contracted in the " << Map::name << " "
+                            << isa_name(isa) << " unit";
+      EXPECT_EQ(scalar, 0.0) << "scalar a*b+c contracted in the " << Map::name << " "
                              << isa_name(isa) << " unit";
-      std::cout << "[ probed ] " << map.name << ' ' << isa_name(isa) << '\n';
+      std::cout << "[ probed ] " << Map::name << ' ' << isa_name(isa) << '\n';
     }
-  }
+  });
 }
 
 }  // namespace
