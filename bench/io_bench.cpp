@@ -16,7 +16,7 @@
 #include <string>
 
 #include "bench_maps.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/isa.hpp"
 #include "ensembles/kinds/box.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"

@@ -1,7 +1,7 @@
 // The cost of a sweep (docs/sweeps.md): 64 points of the flow (order 6, with lambda, FLI and MEGNO)
 // over (beta/alpha, delta/alpha) = {1, ..., 8} x {0, 2, ..., 14}, 64 orbits each, on the best ISA
 // and 2 threads, stepped
-//   - as one sweep (core/sweep_runner: OpenMP over the blocks of every point),
+//   - as one sweep (core/runner: OpenMP over the blocks of every point),
 //   - point by point (each point's own run, one after the other),
 //   - against one run of one point with as many orbits as the whole sweep.
 // items_per_second = particle-steps/s; compare the rows within one run:
@@ -13,7 +13,7 @@
 
 #include "bench_ensemble.hpp"
 #include "core/isa.hpp"
-#include "core/sweep_runner.hpp"
+#include "core/runner.hpp"
 #include "kernels/catalogue.hpp"
 
 namespace qmaps {
@@ -49,11 +49,11 @@ const Execution x{best_isa(), 2, 8};
 
 void as_one_sweep(benchmark::State& state) {
   auto& p = sweep_points();
-  std::vector<SweepPart> parts;
+  std::vector<RunPart> parts;
   for (std::size_t k = 0; k < points; ++k) parts.push_back({p.models[k].get(), &p.ensembles[k], nullptr});
   const long long steps = bench_size().steps;
   for (auto _ : state) {
-    advance_sweep(parts, next_steps(p.ensembles[0], steps, true), x);
+    advance_parts(parts, next_steps(p.ensembles[0], steps, true), x);
     benchmark::DoNotOptimize(p.ensembles[0].state[0][0]);
   }
   describe(state, "flow", std::string(isa_name(x.isa)) + "+lyapunov+sweep",

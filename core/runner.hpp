@@ -1,23 +1,18 @@
 #pragma once
-// The runner: advances an ensemble from plan.first to plan.last on the path that `x` names. The
+// The runner: advances ensembles from plan.first to plan.last on the path that `x` names. The
 // scalar reference (core/block.hpp at width 1) takes one orbit at a time, one checked step at a
-// time, no threads: every other path must reproduce it bit for bit. A SIMD path
-// (core/dispatch.hpp) takes whole blocks of lanes × chains orbits, OpenMP-parallel with a static
-// schedule; each thread counts into its own empty copy of the observers' histograms, merged
-// exactly in thread order when all are done (integer counts), and writes its orbits' section
-// points straight into their slots (core/observers/section_points.hpp).
+// time: every other path must reproduce it bit for bit. A SIMD path (core/dispatch.hpp) takes
+// whole blocks of lanes × chains orbits. Each thread counts into its own empty copy of the
+// observers' histograms, merged exactly when all are done (integer counts), and writes its
+// orbits' section points straight into their slots (core/observers/section_points.hpp).
 #include <algorithm>
 #include <cstddef>
-#include <string>
-#include <utility>
-#include <vector>
-
-#include <omp.h>
+#include <span>
 
 #include "core/dispatch.hpp"
 #include "core/ensemble.hpp"
-#include "core/error.hpp"
 #include "core/execution.hpp"
+#include "core/model.hpp"
 #include "core/observers/observers.hpp"
 #include "core/block.hpp"
 #include "core/run_plan.hpp"
@@ -43,32 +38,20 @@ void advance_range(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
   }
 }
 
-template <class Map>
-void run(const typename Map::Coeffs& c, Ensemble& e, const RunPlan& plan, const Execution& x,
-         Observers* observers) {
-  if (plan.stride < 1) throw usage_error("stride must be >= 1");
-  if (x.isa == Isa::scalar) {
-    advance_range<Map>(c, e, 0, e.orbits, plan, x, observers);
-  } else {
-    const std::size_t block = block_orbits(x);
-    if (Ensemble::padding % block != 0)
-      throw usage_error("chains must be 1, 2, 4 or 8 (got " + std::to_string(x.chains) + ")");
-    // Whole blocks of real orbits; the padding lanes past the last real orbit are never sampled.
-    const long long blocks = static_cast<long long>((e.orbits + block - 1) / block);
-    std::vector<Observers> partials(static_cast<std::size_t>(x.threads));
-#pragma omp parallel num_threads(x.threads)
-    {
-      auto& partial = partials[static_cast<std::size_t>(omp_get_thread_num())];
-      if (observers) partial = observers->empty_copy();
-      Observers* mine = observers ? &partial : nullptr;
-#pragma omp for schedule(static)
-      for (long long b = 0; b < blocks; ++b)
-        advance_range<Map>(c, e, static_cast<std::size_t>(b) * block, block, plan, x, mine);
-    }
-    if (observers) observers->merge(std::move(partials));
-  }
-  if (observers) observers->finish();
-  e.step = plan.last;
-}
+// One part of a run: an ensemble advanced by its own model (its map, its coefficients), its samples
+// into `observers` (null: none). A run is one part; a sweep (docs/sweeps.md) is one per point.
+struct RunPart {
+  const Model* model;
+  Ensemble* ensemble;
+  Observers* observers;
+};
+
+// Advances every part from plan.first to plan.last: OpenMP over the blocks of all of them (a
+// static schedule for one part, a dynamic one for several, so that many small ensembles keep
+// every thread busy). Each thread counts into its own empty copy of each part's observers, merged
+// exactly in thread order when all are done; every part ends as the reference path leaves it,
+// byte for byte, whatever the path, threads and schedule. The stride and the chains are checked
+// here, once.
+void advance_parts(std::span<const RunPart> parts, const RunPlan& plan, const Execution& x);
 
 }  // namespace qmaps

@@ -1,8 +1,6 @@
 #include "kernels/catalogue.hpp"
 
 #include <array>
-#include <cstdlib>
-#include <optional>
 #include <string>
 
 #include "core/error.hpp"
@@ -35,30 +33,6 @@ const auto& maps() {
 
 }  // namespace
 
-std::optional<double> number_in(const std::string& text) {
-  // strtod, not stod: a number beyond the range of a double (a subnormal such as 1e-320, or
-  // 1e400 read as inf) is still a number, for the parameter's own rule to judge.
-  if (text.empty()) return std::nullopt;
-  char* end = nullptr;
-  const double value = std::strtod(text.c_str(), &end);
-  if (end != text.c_str() + text.size()) return std::nullopt;
-  return value;
-}
-
-ParamValues parse_params(const std::vector<std::string>& sets) {
-  ParamValues params;
-  for (const auto& s : sets) {
-    const auto eq = s.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw usage_error("--set expects name=value, got '" + s + "'");
-    const std::string name = s.substr(0, eq), text = s.substr(eq + 1);
-    const auto value = number_in(text);
-    if (!value) throw usage_error("--set " + name + ": '" + text + "' is not a number");
-    params[name] = *value;
-  }
-  return params;
-}
-
 std::span<const MapEntry> catalogue() { return maps(); }
 
 static const MapEntry& entry_named(std::string_view name) {
@@ -74,8 +48,9 @@ std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& para
 }
 std::unique_ptr<Model> continuous_model(const Model& model) {
   const Potential v = model.continuous();
-  return make_model("flow", {{"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta},
-                             {"delta", v.delta}, {"h", 1.0}});
+  return std::make_unique<ModelOf<kernels::Flow>>(ParamValues{
+      {"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta}, {"delta", v.delta},
+      {"h", 1.0}});
 }
 
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params,

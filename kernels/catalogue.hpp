@@ -1,9 +1,6 @@
 #pragma once
 // Every map of kernels/maps.hpp, by the name that `--map` and `[map] name` take.
 #include <memory>
-#include <optional>
-#include <string>
-#include <vector>
 #include <span>
 #include <string_view>
 
@@ -32,11 +29,6 @@ struct ChaosOptions {
 
 std::span<const MapEntry> catalogue();
 
-// The number that is the whole of `text`, if it is one: a subnormal stays one, a number beyond
-// the largest double reads as ±inf (each parameter's own rule then says why it is refused).
-std::optional<double> number_in(const std::string& text);
-// Map parameters from "name=value" items (--set of `orbit` and `check`).
-ParamValues parse_params(const std::vector<std::string>& sets);
 // The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
 // The continuous system `model` discretizes, as the flow (kernels/flow.hpp) of its potential:

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/isa.hpp"
 #include "core/version.hpp"
 #include "h5_read.hpp"

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/isa.hpp"
 #include "kernels/catalogue.hpp"
 #include "run_process.hpp"

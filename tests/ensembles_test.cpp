@@ -11,7 +11,7 @@
 
 #include "ensembles/config/config.hpp"
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/rng.hpp"
 #include "ensembles/kinds/box.hpp"
 #include "kernels/catalogue.hpp"

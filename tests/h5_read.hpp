@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 
 namespace qmaps::testing {
 

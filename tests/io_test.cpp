@@ -14,7 +14,7 @@
 
 #include "ensembles/config/config.hpp"
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/version.hpp"
 #include "kernels/suris.hpp"
 #include "run_process.hpp"

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "ensembles/config/config.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "kernels/catalogue.hpp"
 #include "run_process.hpp"
 #include "h5_read.hpp"

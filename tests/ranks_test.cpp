@@ -1,4 +1,4 @@
-// The pieces in which values travel between MPI ranks (core/rank_pieces.hpp): at 10^10 orbits over
+// The pieces in which values travel between MPI ranks (ensembles/io/rank_pieces.hpp): at 10^10 orbits over
 // 3 ranks each rank holds more values than an int counts, and every piece handed to MPI stays
 // below 2^31 while the pieces cover every rank's values once, in order, at their place.
 #include <gtest/gtest.h>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/rank_pieces.hpp"
+#include "ensembles/io/rank_pieces.hpp"
 
 namespace qmaps::ranks {
 namespace {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/sweep_runner.hpp"
+#include "core/runner.hpp"
 #include "ensemble_fixtures.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/observer_config.hpp"
@@ -254,11 +254,11 @@ TEST(SweepRunner, EveryPointEqualsItsRunAloneOnEveryIsaAndThreadCount) {
         segment.first = from;
         segment.last = to;
         std::vector<Observers> part;
-        std::vector<SweepPart> parts;
+        std::vector<RunPart> parts;
         for (std::size_t k = 0; k < ps.size(); ++k) part.push_back(os[k].empty_copy());
         for (std::size_t k = 0; k < ps.size(); ++k)
           parts.push_back({ps[k].model.get(), &es[k], &part[k]});
-        advance_sweep(parts, segment, Execution{isa, threads, 8});
+        advance_parts(parts, segment, Execution{isa, threads, 8});
         for (std::size_t k = 0; k < ps.size(); ++k) os[k].merge(std::move(part[k]));
       }
       for (std::size_t k = 0; k < ps.size(); ++k) {

@@ -9,7 +9,7 @@
 #include <toml++/toml.h>
 
 #include "core/error.hpp"
-#include "core/io/files.hpp"
+#include "ensembles/io/files.hpp"
 
 namespace qmaps {
 namespace {

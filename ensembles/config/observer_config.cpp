@@ -6,6 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
+#include "ensembles/io/trajectories.hpp"
 
 namespace qmaps {
 namespace {

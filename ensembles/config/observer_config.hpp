@@ -7,15 +7,11 @@
 #include "ensembles/config/config.hpp"
 #include "core/observers/histogram.hpp"
 #include "core/model.hpp"
+#include "core/observers/invariant_image.hpp"
 #include "core/observers/observers.hpp"
-#include "ensembles/io/trajectories.hpp"
+#include "core/observers/trajectory.hpp"
 
 namespace qmaps {
-
-// The 2D histogram of two invariants' initial values over the ensemble.
-struct InvariantImage {
-  Histogram histogram;  // axes' coordinates are the invariants' names
-};
 
 // `steps`: the run's, which bound the points a section's orbit can keep.
 Observers observers_from_config(const Config& config, const Model& model, std::size_t orbits,

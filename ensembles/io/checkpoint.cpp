@@ -6,7 +6,7 @@
 
 #include "core/error.hpp"
 #include "core/escape.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
 
 namespace qmaps {

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "core/ensemble.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
 #include "core/observers/observers.hpp"
 #include "ensembles/io/output.hpp"
@@ -35,7 +35,7 @@ h5::File open_checkpoint(const std::string& path);
 void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows rows = {},
                    std::size_t at = 0);
 // Sets the counts and points of `o` (built from the checkpoint's configuration, for rows.count
-// orbits) to those of the file's rows; the histograms' counts go to rank 0 alone (core/ranks.hpp),
+// orbits) to those of the file's rows; the histograms' counts go to rank 0 alone (ensembles/io/ranks.hpp),
 // so that the ranks' add up to the file's.
 void restore_observers(const h5::Group& root, Observers& o, Rows rows = {});
 

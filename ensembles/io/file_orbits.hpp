@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <string>
 
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 
 namespace qmaps {
 

@@ -1,4 +1,4 @@
-#include "core/io/files.hpp"
+#include "ensembles/io/files.hpp"
 
 #include <fcntl.h>
 #include <sys/resource.h>

@@ -1,4 +1,4 @@
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 
 #include <algorithm>
 
@@ -11,9 +11,9 @@
 #include <type_traits>
 
 #include "core/error.hpp"
-#include "core/io/files.hpp"
-#include "core/io/h5_writing_driver.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/files.hpp"
+#include "ensembles/io/h5_writing_driver.hpp"
+#include "ensembles/io/ranks.hpp"
 
 namespace qmaps::h5 {
 namespace {
@@ -420,7 +420,7 @@ hid_t create_file(const std::string& path, bool shared = false) {
 }
 
 // Closes a file written by this process alone, its flush first: a write that fails leaves the
-// rest of the file to be discarded by its driver (core/io/h5_writing_driver.hpp), so that the
+// rest of the file to be discarded by its driver (ensembles/io/h5_writing_driver.hpp), so that the
 // close itself succeeds, and the driver names the failure (errno). A shared file (MPI-IO) is
 // closed by H5Fclose, in one collective call.
 herr_t close_written(hid_t id) {

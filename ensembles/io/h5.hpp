@@ -1,7 +1,7 @@
 #pragma once
 // HDF5 (C API) with RAII: every handle closes itself; every failure is a qmaps::Error naming the
 // file and the object. AtomicFile writes under a temporary name and renames when complete.
-// A shared file (qmaps-mpi, parallel HDF5) is written by every rank together (core/ranks.hpp):
+// A shared file (qmaps-mpi, parallel HDF5) is written by every rank together (ensembles/io/ranks.hpp):
 // each call on it is collective; whole datasets are rank 0's, and each rank writes its own part
 // of a column, with as many write_part calls on every rank (empty ones where it has no more).
 #include <cstdint>
@@ -11,7 +11,7 @@
 
 #include <hdf5.h>
 
-#include "core/ranks.hpp"
+#include "ensembles/io/ranks.hpp"
 
 namespace qmaps::h5 {
 
@@ -113,7 +113,7 @@ class File {
 
 // A file written under "<path>.tmp-<pid>" and renamed to <path> by commit(); destroyed without
 // commit, the temporary is removed. A killed process leaves no file under the final name.
-// Constructed, it has checked that <path> can be replaced (core/io/files.hpp: a regular file or
+// Constructed, it has checked that <path> can be replaced (ensembles/io/files.hpp: a regular file or
 // none, in a folder that can be written); commit() checks it again just before the rename.
 // Construct it under the output's lock (ensembles/io/output_lock.hpp). Shared (by default where
 // there are several ranks; every rank's call), the temporary is named by rank 0's pid, and rank
@@ -121,7 +121,7 @@ class File {
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path, bool shared = ranks::count() > 1);
-  // Throws the io error the constructor would for `path` (core/io/files.hpp's
+  // Throws the io error the constructor would for `path` (ensembles/io/files.hpp's
   // check_output_target), with no other effect.
   static void check_writable(const std::string& path);
   // The HDF5 file at the temporary, its datasets gzip-compressed at level `deflate` (1-9; 0:

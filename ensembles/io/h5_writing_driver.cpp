@@ -1,4 +1,4 @@
-#include "core/io/h5_writing_driver.hpp"
+#include "ensembles/io/h5_writing_driver.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -33,7 +33,7 @@ struct WritingFile {
 WritingFile* of(H5FD_t* f) { return reinterpret_cast<WritingFile*>(f); }
 const WritingFile* of(const H5FD_t* f) { return reinterpret_cast<const WritingFile*>(f); }
 
-// The failing call's errno stays for the caller's message (core/io/h5.cpp).
+// The failing call's errno stays for the caller's message (ensembles/io/h5.cpp).
 herr_t failed(WritingFile* f) {
   f->failure = errno ? errno : EIO;
   errno = f->failure;

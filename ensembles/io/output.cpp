@@ -12,8 +12,9 @@
 #include <omp.h>
 
 #include "core/error.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
+#include "ensembles/io/statistics.hpp"
 
 namespace qmaps {
 namespace {
@@ -171,13 +172,6 @@ void write_chaos(const h5::Group& root, const RunRecord& run, Rows rows) {
 
 }  // namespace
 
-double quantile(std::vector<double> values, double f) {
-  if (values.empty()) return std::nan("");
-  const auto k = static_cast<std::size_t>(f * static_cast<double>(values.size() - 1) + 0.5);
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
-}
-
 ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold) {
   ChaosTable t;
   t.names = model.indicator_names();
@@ -227,8 +221,7 @@ DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
       ++d.zero;
       continue;
     }
-    const double scale = std::fabs(e.invariant_initial[k][i]);  // absolute where I_0 = 0
-    const double x = std::log10(scale > 0 ? drift / scale : drift);
+    const double x = std::log10(relative_drift(e.invariant_initial[k][i], drift));
     d.histogram.add(&x);
   }
   return d;

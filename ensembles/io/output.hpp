@@ -7,11 +7,11 @@
 #include <vector>
 
 #include "core/ensemble.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
+#include "core/observers/invariant_image.hpp"
 #include "core/observers/observers.hpp"
 #include "core/run_plan.hpp"
-#include "ensembles/config/observer_config.hpp"
 #include "ensembles/io/trajectories.hpp"
 
 namespace qmaps {
@@ -44,9 +44,6 @@ struct ChaosTable {
 };
 ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold);
 
-// The value of rank round(f (n − 1)) among n values; NaN for none.
-double quantile(std::vector<double> values, double f);
-
 // The rows of a file's per-orbit datasets that this process writes: [first, first + count) of
 // total. A rank of qmaps-mpi writes its orbits' rows into the one file of the run; any other
 // process writes all of them (first 0, count = total).
@@ -57,7 +54,7 @@ struct Rows {
   Rows or_all(std::size_t n) const { return count > 0 ? *this : Rows{0, n, n}; }
 };
 
-// The histogram's counts, underflow and overflow added over every rank (core/ranks.hpp).
+// The histogram's counts, underflow and overflow added over every rank (ensembles/io/ranks.hpp).
 void add_over_ranks(Histogram& h);
 
 // Everything of a run but /initial, which is written first, by parts (create_phase, write_phase_part),

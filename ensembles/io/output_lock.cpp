@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "core/io/files.hpp"
+#include "ensembles/io/files.hpp"
 #include "ensembles/io/checkpoint.hpp"
 
 namespace qmaps {

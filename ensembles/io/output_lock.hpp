@@ -7,7 +7,7 @@
 // shared file system their pids say nothing, the lock does. The kernel releases the lock of a
 // killed process; the file it leaves is taken over by the next run.
 //
-// Before it locks, it checks that the output can be replaced (core/io/files.hpp), so that a
+// Before it locks, it checks that the output can be replaced (ensembles/io/files.hpp), so that a
 // doomed run makes no lock. The lock file is never written through a link: it is opened without
 // following one, and one that is not a regular file of this user with a single name is refused.
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The pieces in which values travel between the ranks (core/ranks_mpi.cpp). An MPI count is an
+// The pieces in which values travel between the ranks (ensembles/io/ranks_mpi.cpp). An MPI count is an
 // int (OpenMPI 4 has no MPI-4 large-count calls), while a rank may hold more than 2^31 values
 // (10^10 orbits over 3 ranks): every transfer goes as pieces of at most `limit` values, each sent
 // by one rank into its place among all the ranks' values, so that no count nor offset handed to

@@ -1,5 +1,5 @@
-// One process: qmaps. (qmaps-mpi links core/ranks_mpi.cpp instead.)
-#include "core/ranks.hpp"
+// One process: qmaps. (qmaps-mpi links ensembles/io/ranks_mpi.cpp instead.)
+#include "ensembles/io/ranks.hpp"
 
 #include <cstdlib>
 

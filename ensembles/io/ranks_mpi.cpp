@@ -4,8 +4,8 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "core/rank_pieces.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/rank_pieces.hpp"
+#include "ensembles/io/ranks.hpp"
 
 namespace qmaps::ranks {
 namespace {

@@ -1,20 +1,38 @@
-#include "ensembles/program/drift_summary.hpp"
+#include "ensembles/io/statistics.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 namespace qmaps {
+namespace {
+
+std::size_t rank_of(double f, std::size_t n) {
+  return static_cast<std::size_t>(f * static_cast<double>(n - 1) + 0.5);
+}
+
+}  // namespace
+
+double quantile(std::vector<double> values, double f) {
+  if (values.empty()) return std::nan("");
+  const std::size_t k = rank_of(f, values.size());
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
+  return values[k];
+}
+
+double relative_drift(double initial, double max_abs_drift) {
+  const double scale = std::fabs(initial);
+  return !std::isfinite(scale) ? std::numeric_limits<double>::quiet_NaN()
+         : scale > 0           ? max_abs_drift / scale
+                               : max_abs_drift;
+}
 
 DriftSummary::DriftSummary(std::span<const double> initial, std::span<const double> max_abs_drift,
                            std::span<const std::uint8_t> keep) {
   for (std::size_t i = 0; i < initial.size(); ++i) {
     if (!keep.empty() && !keep[i]) continue;
-    const double scale = std::fabs(initial[i]);
-    // An invariant that is not a number (or infinite) at the start has no drift to speak of.
-    const double d = !std::isfinite(scale) ? std::numeric_limits<double>::quiet_NaN()
-                     : scale > 0           ? max_abs_drift[i] / scale
-                                           : max_abs_drift[i];
+    const double d = relative_drift(initial[i], max_abs_drift[i]);
     not_numbers_ += std::isnan(d);
     sorted_.push_back(d);
   }
@@ -23,10 +41,9 @@ DriftSummary::DriftSummary(std::span<const double> initial, std::span<const doub
             [](double a, double b) { return a < b || (!std::isnan(a) && std::isnan(b)); });
 }
 
-double DriftSummary::percentile(double p) const {
+double DriftSummary::quantile(double f) const {
   if (sorted_.empty()) return std::numeric_limits<double>::quiet_NaN();
-  const auto rank = static_cast<std::size_t>(std::ceil(p * static_cast<double>(sorted_.size())));
-  return sorted_[std::clamp<std::size_t>(rank, 1, sorted_.size()) - 1];
+  return sorted_[rank_of(f, sorted_.size())];
 }
 
 }  // namespace qmaps

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "ensembles/program/drift_summary.hpp"
+#include "ensembles/io/statistics.hpp"
 
 namespace qmaps {
 namespace {
@@ -29,7 +29,7 @@ double worst_drift(const Model& model, const Ensemble& e) {
     const DriftSummary drift(e.invariant_initial[k].span().first(e.orbits),
                              e.invariant_max_drift[k].span().first(e.orbits), bounded);
     if (drift.not_numbers()) return std::numeric_limits<double>::quiet_NaN();
-    const double d = drift.percentile(1);
+    const double d = drift.quantile(1);
     if (!std::isnan(d)) worst = std::isnan(worst) ? d : std::max(worst, d);
   }
   return worst;

@@ -5,7 +5,7 @@
 #include <span>
 #include <vector>
 
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "ensembles/config/sweep_config.hpp"
 #include "ensembles/io/output.hpp"
 

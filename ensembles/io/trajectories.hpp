@@ -1,38 +1,18 @@
 #pragma once
-// Time series of chosen orbits ([[trajectory]]): every `every` steps, each orbit's step, time,
-// phase point, the map's invariants, the continuous system's H and second integral ("_cont"), and
-// its chaos indicators when the run records them. They are recorded when the run starts, by
+// The trajectories' rows (core/observers/trajectory.hpp): recorded when the run starts, by
 // stepping copies of those orbits on the scalar reference path, which every path reproduces bit
-// for bit; the file holds them under /trajectories/<name>/ (docs/hdf5-schema.md).
+// for bit; written under /trajectories/<name>/ (docs/hdf5-schema.md) and read from checkpoints.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/ensemble.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
+#include "core/observers/trajectory.hpp"
 #include "core/run_plan.hpp"
 
 namespace qmaps {
-
-struct Trajectory {
-  std::string name;
-  std::vector<std::size_t> orbits;  // the orbits recorded, in this order
-  long long every = 1;
-  // One row per orbit and recorded step while the orbit has not escaped, orbit by orbit.
-  std::vector<std::int64_t> orbit, step;
-  std::vector<std::string> columns;         // t, q1, q2, p1, p2, invariants, …
-  std::vector<std::vector<double>> values;  // [column][row]
-
-  // The most rows an orbit can give over `steps` steps.
-  static long long rows_per_orbit(long long steps, long long every) { return steps / every + 2; }
-  double rows(long long steps) const {
-    return static_cast<double>(orbits.size()) * static_cast<double>(rows_per_orbit(steps, every));
-  }
-  double bytes(long long steps) const {
-    return 8.0 * rows(steps) * static_cast<double>(2 + columns.size());
-  }
-};
 
 // The column names every trajectory of this model has, and orbit i's row of them at e's step
 // (`continuous` is continuous_model(model)): `qmaps orbit` prints the same rows.

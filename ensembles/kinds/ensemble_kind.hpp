@@ -4,6 +4,7 @@
 // any orbit and the result never depends on threads, chunks or order.
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -12,6 +13,13 @@
 #include "core/phase.hpp"
 
 namespace qmaps {
+
+// Called now and then by the long loops of drawing and enumerating, with what they are doing: it
+// throws to stop them (the program stops so on a signal). Empty: never stops.
+using StopCheck = std::function<void(const char* doing)>;
+inline void check_stop(const StopCheck& stop, const char* doing) {
+  if (stop) stop(doing);
+}
 
 // Orbit i's starting point, and how many candidates were rejected before it (shell ensembles).
 struct Drawn {

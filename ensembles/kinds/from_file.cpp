@@ -5,7 +5,7 @@
 
 #include "core/error.hpp"
 #include "core/escape.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "ensembles/io/file_orbits.hpp"
 #include "ensembles/io/output.hpp"
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <string_view>
 #include <type_traits>
+#include <utility>
 
 #include "core/error.hpp"
 #include "ensembles/kinds/box.hpp"
@@ -13,7 +14,6 @@
 #include "ensembles/kinds/grid.hpp"
 #include "ensembles/kinds/line.hpp"
 #include "ensembles/kinds/shell.hpp"
-#include "ensembles/program/interrupt.hpp"
 
 namespace qmaps {
 
@@ -52,11 +52,14 @@ namespace {
 // Every ensemble kind, by the name [ensemble] kind takes.
 struct KindEntry {
   std::string_view name;
-  std::shared_ptr<const EnsembleKind> (*make)(const Config&, const Model&);
+  std::shared_ptr<const EnsembleKind> (*make)(const Config&, const Model&, const StopCheck&);
 };
 template <class Kind>
-std::shared_ptr<const EnsembleKind> make_kind(const Config& config, const Model& model) {
-  if constexpr (std::is_constructible_v<Kind, const Config&, const Model&>)
+std::shared_ptr<const EnsembleKind> make_kind(const Config& config, const Model& model,
+                                              const StopCheck& stop) {
+  if constexpr (std::is_constructible_v<Kind, const Config&, Potential, StopCheck>)
+    return std::make_shared<Kind>(config, model.continuous(), stop);
+  else if constexpr (std::is_constructible_v<Kind, const Config&, const Model&>)
     return std::make_shared<Kind>(config, model);
   else if constexpr (std::is_constructible_v<Kind, const Config&, Potential>)
     return std::make_shared<Kind>(config, model.continuous());
@@ -75,11 +78,13 @@ std::string InitialConditions::kinds() {
   return names;
 }
 
-InitialConditions InitialConditions::from_config(const Config& config, const Model& model) {
+InitialConditions InitialConditions::from_config(const Config& config, const Model& model,
+                                                 StopCheck stop) {
   InitialConditions ic;
+  ic.stop_ = std::move(stop);
   ic.kind_ = config.string_or("ensemble", "kind", "box");
   for (const auto& k : kinds_list)
-    if (k.name == ic.kind_) ic.generator_ = k.make(config, model);
+    if (k.name == ic.kind_) ic.generator_ = k.make(config, model, ic.stop_);
   if (!ic.generator_)
     throw usage_error(config.where("ensemble", "kind") + ": unknown ensemble kind '" + ic.kind_ +
                       "' (known: " + kinds() + ")");
@@ -110,7 +115,7 @@ std::uint64_t InitialConditions::start(const Model& model, Ensemble& e, Start ru
   const std::size_t n = e.orbits;
   std::vector<Phase> points(std::min(n, part));
   for (std::size_t first = 0; first < n; first += part) {
-    stop_if_interrupted("drawing the initial conditions");
+    check_stop(stop_, "drawing the initial conditions");
     const auto some = std::span<Phase>(points).first(std::min(part, n - first));
     rejected += generate(*generator_, offset + first, some);
     sink(first, some);

@@ -36,8 +36,10 @@ class InitialConditions {
  public:
   static std::string kinds();  // "box, grid, shell, line, file"
 
-  // Reads [ensemble] kind (default "box") and that kind's keys; every error names its key.
-  static InitialConditions from_config(const Config& config, const Model& model);
+  // Reads [ensemble] kind (default "box") and that kind's keys; every error names its key. Its
+  // long loops, here and in start(), check `stop`.
+  static InitialConditions from_config(const Config& config, const Model& model,
+                                       StopCheck stop = {});
   // The caller's points (kind "points"): orbit i starts at points[i]; the configuration must then
   // have no [ensemble] table.
   static InitialConditions of_points(const Config& config,
@@ -62,6 +64,7 @@ class InitialConditions {
  private:
   std::string kind_;
   std::shared_ptr<const EnsembleKind> generator_;
+  StopCheck stop_;
 };
 
 }  // namespace qmaps

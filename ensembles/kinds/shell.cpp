@@ -2,11 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
 #include "core/rng.hpp"
-#include "ensembles/program/interrupt.hpp"
 
 namespace qmaps {
 namespace {
@@ -37,7 +37,8 @@ std::optional<double> smallest_nonnegative_root(double a, double b, double c) {
 
 }  // namespace
 
-Shell::Shell(const Config& config, const Potential& potential) : potential_(potential) {
+Shell::Shell(const Config& config, const Potential& potential, StopCheck stop)
+    : potential_(potential), stop_(std::move(stop)) {
   energy_ = config.number("ensemble", "energy");
   energy_where_ = config.where("ensemble", "energy");
   solve_ = phase_index(config, "solve", config.string_or("ensemble", "solve", "p2"));
@@ -84,7 +85,7 @@ Shell::Shell(const Config& config, const Potential& potential) : potential_(pote
                       number_text(static_cast<double>(n) * bytes_per_candidate / (1 << 30)) +
                       " GiB; " + have.what + " is " + number_text(have.bytes / (1 << 30)) + " GiB");
   for (std::size_t j = 0; j < n; ++j) {
-    if (j % 4096 == 0) stop_if_interrupted("enumerating the shell's grid");
+    if (j % 4096 == 0) check_stop(stop_, "enumerating the shell's grid");
     std::array<double, 4> x{};
     lattice_->place(j, x);
     if (solve(x)) accepted_.push_back(j);
@@ -126,7 +127,7 @@ Drawn Shell::draw(std::size_t orbit) const {
   }
   const OrbitRandom random(seed_, shell_stream);
   for (std::uint64_t k = 0; k < max_draws_; ++k) {
-    if (k % 4096 == 4095) stop_if_interrupted("drawing the shell's initial conditions");
+    if (k % 4096 == 4095) check_stop(stop_, "drawing the shell's initial conditions");
     const auto u = random.uniform4(orbit, k);
     std::array<double, 4> x{};
     for (std::size_t c = 0; c < 4; ++c) {

@@ -30,8 +30,9 @@ namespace qmaps {
 class Shell final : public EnsembleKind {
  public:
   // Reads [ensemble] energy, solve, sign, sampling, and for random: orbits, seed, max_draws;
-  // for grid: points; the ranges of the three coordinates other than `solve`.
-  Shell(const Config& config, const Potential& potential);
+  // for grid: points; the ranges of the three coordinates other than `solve`. `stop` is
+  // checked while the grid is enumerated and while an orbit's draws are rejected.
+  Shell(const Config& config, const Potential& potential, StopCheck stop = {});
   std::size_t orbits() const override { return orbits_; }
   Drawn draw(std::size_t orbit) const override;
   std::string description() const override;
@@ -45,6 +46,7 @@ class Shell final : public EnsembleKind {
 
  private:
   Potential potential_;
+  StopCheck stop_;
   double energy_;
   int solve_;    // 0 q1, 1 q2, 2 p1, 3 p2
   double sign_;  // +1 or −1

@@ -10,10 +10,11 @@
 #include <ostream>
 
 #include "core/error.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "ensembles/kinds/box.hpp"
 #include "kernels/catalogue.hpp"
 #include "ensembles/program/commands.hpp"
-#include "ensembles/program/drift_summary.hpp"
+#include "ensembles/io/statistics.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 
 namespace qmaps {
@@ -98,8 +99,8 @@ int check_command(const CheckOptions& o, std::ostream& out) {
                          e.invariant_max_drift[k].span().first(e.orbits), alive);
     char line[160];
     std::snprintf(line, sizeof line, "  %-9s %10s %10s %10s %10s\n", names[k].c_str(),
-                  g(s.percentile(0.5)).c_str(), g(s.percentile(0.9)).c_str(),
-                  g(s.percentile(0.99)).c_str(), g(s.percentile(1)).c_str());
+                  g(s.quantile(0.5)).c_str(), g(s.quantile(0.9)).c_str(),
+                  g(s.quantile(0.99)).c_str(), g(s.quantile(1)).c_str());
     out << line;
   }
 

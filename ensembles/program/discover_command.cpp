@@ -17,6 +17,7 @@
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/program/interrupt.hpp"
 #include "ensembles/program/commands.hpp"
 #include "kernels/catalogue.hpp"
 
@@ -186,7 +187,7 @@ int discover_command(const DiscoverOptions& o, std::ostream& out) {
                       " monomials need about " + g(bytes / (1 << 30)) + " GiB; " + have.what +
                       " is " + g(have.bytes / (1 << 30)) + " GiB");
 
-  const InitialConditions ic = InitialConditions::from_config(config, *model);
+  const InitialConditions ic = InitialConditions::from_config(config, *model, stop_on_signal);
   Start rule = Start::taylor;
   try {
     rule = parse_start(config.string_or("ensemble", "start", "taylor"));

@@ -9,11 +9,11 @@
 
 #include "core/ensemble.hpp"
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/io/file_orbits.hpp"
 #include "ensembles/io/output.hpp"
-#include "ensembles/program/drift_summary.hpp"
+#include "ensembles/io/statistics.hpp"
 
 namespace qmaps {
 namespace {
@@ -168,7 +168,7 @@ int describe(const std::string& path, std::ostream& out) {
     const auto initial = inv.read_doubles("initial", orbits),
                drift = inv.read_doubles("max_abs_drift", orbits);
     const DriftSummary s(initial, drift, alive);
-    out << "worst " << g(s.percentile(1)) << ", median " << g(s.percentile(0.5));
+    out << "worst " << g(s.quantile(1)) << ", median " << g(s.quantile(0.5));
     if (s.not_numbers())
       out << " (" << s.not_numbers() << " of " << s.orbits() << " orbits' " << name
           << " is not a number: no drift can be measured)";

@@ -39,6 +39,9 @@ void stop_if_interrupted(
     const char* doing,
     const char* outcome = "stopped before the run began; nothing was written");
 
+// The start-up's stop check (ensembles/kinds' StopCheck): stop_if_interrupted.
+inline void stop_on_signal(const char* doing) { stop_if_interrupted(doing); }
+
 // A signal the run sends itself on reaching a step, so that an interruption can be reproduced
 // exactly: QMAPS_SIGNAL_AT_STEP="STEP:NAME" (NAME: INT, TERM, HUP or KILL), see docs/cli.md.
 class SelfSignal {

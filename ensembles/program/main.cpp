@@ -17,7 +17,7 @@
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
@@ -25,7 +25,7 @@
 namespace {
 
 #ifdef QMAPS_MPI
-// qmaps-mpi: one rank of MPI_COMM_WORLD from start to end (core/ranks_mpi.cpp).
+// qmaps-mpi: one rank of MPI_COMM_WORLD from start to end (ensembles/io/ranks_mpi.cpp).
 struct MpiSession {
   MpiSession(int& argc, char**& argv) {
     int provided = 0;
@@ -195,7 +195,7 @@ int main(int argc, char** argv) {
     errors << "qmaps: error: " << e.what() << '\n';
     if (e.code() == qmaps::ExitCode::io) {
       // A shared file (MPI-IO) whose close failed (a full disk) stays open inside HDF5, whose
-      // exit handler would then fail on it (core/io/h5_writing_driver.hpp spares the files of
+      // exit handler would then fail on it (ensembles/io/h5_writing_driver.hpp spares the files of
       // one process): the outputs are settled by now (no temporary is left), so end here.
       std::cout.flush();
       std::fflush(nullptr);

@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/memory_limit.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"

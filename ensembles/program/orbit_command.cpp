@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "ensembles/io/trajectories.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"

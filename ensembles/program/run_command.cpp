@@ -7,8 +7,8 @@
 #include <ostream>
 
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/h5.hpp"
+#include "ensembles/io/ranks.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/config/sweep_config.hpp"
@@ -19,6 +19,7 @@
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
 #include "ensembles/program/progress.hpp"
+#include "ensembles/program/segments.hpp"
 #include "ensembles/program/run_setup.hpp"
 #include "ensembles/program/sweep_run.hpp"
 
@@ -118,63 +119,41 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   };
   const auto save = [&] { save_from(initial ? &*initial : nullptr); };
 
-  SelfSignal self_signal = SelfSignal::from_environment();
   const std::size_t orbits = r.shard ? r.orbits : r.total;  // the file's
   Progress progress(!options.quiet && ranks::root() && isatty(STDERR_FILENO), log, orbits, first,
                     r.plan.total);
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
-  // Steps per segment: doubled or halved to take about 0.1 to 0.4 s, since a signal waits for
-  // the segment's end and mpirun SIGKILLs the ranks 1 s after it passes a SIGTERM on
-  // (docs/cli.md). But each segment is one more pass over the ensemble's memory (about 10 steps'
-  // cost for the Suris preset, whatever the orbit count): a segment also takes at least
-  // min_segment_steps steps where that lasts under 2 s (a large ensemble's), and never over 8 s.
-  constexpr long long min_segment_steps = 256;
-  long long length = 1;
-  while (e.step < r.plan.total) {
-    RunPlan segment = r.plan;
-    segment.first = e.step;
-    segment.last = std::min(r.plan.total, e.step + length);
-    if (r.checkpoint_every > 0)
-      segment.last = std::min(segment.last, (e.step / r.checkpoint_every + 1) * r.checkpoint_every);
-    segment.last = self_signal.segment_end(segment.first, segment.last);
-    const double t = progress.seconds();
-    Observers part = blank.empty_copy();
-    r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
-    r.observers.merge(std::move(part));
-    // Over several ranks, each decision below is taken alike on every rank: the longest segment
-    // sets the next length, a signal on any rank stops them all.
-    const double took = ranks::max(progress.seconds() - t);
-    progress.update(e.step);
-    if (options.on_segment) options.on_segment(e.step, r.plan.total);
-    if (e.step == r.plan.total) break;
-    self_signal.deliver_if_due(e.step);
-    const int signal = static_cast<int>(ranks::max(std::int64_t{interrupt.signal()}));
+  const SegmentLoop segments{r.plan, r.checkpoint_every, progress, interrupt, options.on_segment};
+  const int signal = segments.run(
+      e.step,
+      [&](const RunPlan& segment) {
+        Observers part = blank.empty_copy();
+        r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
+        r.observers.merge(std::move(part));
+      },
+      [&](long long step) {
+        if (r.checkpoint_every > 0 && step % r.checkpoint_every == 0) save();
+      });
+  if (signal != 0) {
     // Stopped, the run writes no output: its temporary goes at once, before the checkpoint, so
     // that a kill in what remains (mpirun's SIGKILL, 1 s after it passed SIGTERM on to the
     // ranks) leaves none behind.
-    if (signal != 0) output.discard();
-    if (signal != 0 && !options.checkpoint_on_interrupt) {
+    output.discard();
+    if (!options.checkpoint_on_interrupt) {
       progress.end();
       log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
           << r.plan.total << ": stopped, nothing written\n";
       return static_cast<int>(ExitCode::interrupted);
     }
-    if (signal != 0) {
-      save();
-      progress.end();
-      if (ranks::root())
-        log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
-            << r.plan.total << ": checkpoint written to " << checkpoint
-            << "; continue with: qmaps run --resume " << checkpoint << '\n';
-      return static_cast<int>(ExitCode::interrupted);
-    }
-    if (r.checkpoint_every > 0 && e.step % r.checkpoint_every == 0) save();
-    const bool few = length < min_segment_steps;
-    if (took < 0.1 || (few && took < 2)) length = std::min(2 * length, r.plan.total);
-    else if ((took > 0.4 && length > min_segment_steps) || (took > 8 && length > 1))
-      length /= 2;
+    save();
+    progress.end();
+    if (ranks::root())
+      log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of " << r.plan.total
+          << ": checkpoint written to " << checkpoint
+          << "; continue with: qmaps run --resume " << checkpoint << '\n';
+    return static_cast<int>(ExitCode::interrupted);
   }
   progress.end();
   const double seconds = progress.seconds();
@@ -375,7 +354,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
       return;
     }
     initial_conditions.emplace(options.points ? InitialConditions::of_points(*config, options.points)
-                                              : InitialConditions::from_config(*config, *model));
+                                              : InitialConditions::from_config(*config, *model, stop_on_signal));
     run.emplace(run_of(*config, std::move(model), initial_conditions->orbits(), options));
     config->reject_unknown();
     if (ranks::count() > 1) h5::AtomicFile::check_writable(run->path);
@@ -415,7 +394,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
           ++parts;
         },
         orbits_per_part, r.first);
-    // As many writes on every rank (core/io/h5.hpp): the ranks with fewer parts write empty ones.
+    // As many writes on every rank (ensembles/io/h5.hpp): the ranks with fewer parts write empty ones.
     if (initial)
       for (std::size_t more = parts_of(r.orbits); parts < more; ++parts)
         write_phase_part(*initial, at, {});

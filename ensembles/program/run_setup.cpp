@@ -8,7 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
-#include "core/ranks.hpp"
+#include "ensembles/io/ranks.hpp"
 #include "core/thread_limit.hpp"
 #include "core/tangent_map.hpp"
 #include "ensembles/io/checkpoint.hpp"

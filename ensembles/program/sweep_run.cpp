@@ -8,16 +8,18 @@
 #include <vector>
 
 #include "core/error.hpp"
-#include "core/io/h5.hpp"
+#include "ensembles/io/h5.hpp"
 #include "core/memory_limit.hpp"
-#include "core/sweep_runner.hpp"
+#include "core/runner.hpp"
 #include "core/thread_limit.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/io/sweep_output.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/program/interrupt.hpp"
 #include "ensembles/program/progress.hpp"
 #include "ensembles/program/run_setup.hpp"
+#include "ensembles/program/segments.hpp"
 
 namespace qmaps {
 namespace {
@@ -58,7 +60,8 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
     try {  // the point's own map and, for a shell, its own energy surface
       models.push_back(map_of(point, chaos_options_of(point)));
       starts.push_back(options.points ? InitialConditions::of_points(point, options.points)
-                                      : InitialConditions::from_config(point, *models.back()));
+                                      : InitialConditions::from_config(point, *models.back(),
+                                                                         stop_on_signal));
     } catch (const Error& e) {
       throw Error(e.code(), "[[sweep]] " + sweep.label(k) + ": " + e.what());
     }
@@ -109,44 +112,33 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
     orbits += r.orbits;
   }
 
-  // All points step together in segments (exact: a segmented run equals one call), doubled or
-  // halved to take 2 to 8 s; a signal is answered at a segment's end.
+  // All points step together in segments (ensembles/program/segments.hpp).
   const RunPlan plan = first.plan;
   const Execution x = first.x;
-  SelfSignal self_signal = SelfSignal::from_environment();
   Progress progress(!options.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
   std::vector<Observers> blanks;
   for (const auto& r : runs) blanks.push_back(r.observers.empty_copy());
-  long long step = 0, length = 1;
-  do {
-    RunPlan segment = plan;
-    segment.first = step;
-    segment.last = self_signal.segment_end(step, std::min(plan.total, step + length));
-    std::vector<Observers> parts;
-    std::vector<SweepPart> work;
-    for (std::size_t k = 0; k < points; ++k) parts.push_back(blanks[k].empty_copy());
-    for (std::size_t k = 0; k < points; ++k)
-      work.push_back({runs[k].model.get(), &ensembles[k],
-                      runs[k].observers.empty() ? nullptr : &parts[k]});
-    const double t = progress.seconds();
-    advance_sweep(work, segment, x);
-    for (std::size_t k = 0; k < points; ++k)
-      if (!runs[k].observers.empty()) runs[k].observers.merge(std::move(parts[k]));
-    const double took = progress.seconds() - t;
-    step = segment.last;
-    progress.update(step);
-    if (options.on_segment) options.on_segment(step, plan.total);
-    if (step == plan.total) break;
-    self_signal.deliver_if_due(step);
-    if (interrupt.requested()) {
-      progress.end();
-      log << "qmaps: " << signal_name(interrupt.signal()) << " at step " << step << " of "
-          << plan.total << ": a sweep keeps no checkpoint; stopped, nothing was written\n";
-      return static_cast<int>(ExitCode::interrupted);
-    }
-    if (took < 2) length = std::min(2 * length, plan.total);
-    else if (took > 8 && length > 1) length /= 2;
-  } while (step < plan.total);
+  const SegmentLoop segments{plan, 0, progress, interrupt, options.on_segment};
+  const int signal = segments.run(
+      0,
+      [&](const RunPlan& segment) {
+        std::vector<Observers> parts;
+        std::vector<RunPart> work;
+        for (std::size_t k = 0; k < points; ++k) parts.push_back(blanks[k].empty_copy());
+        for (std::size_t k = 0; k < points; ++k)
+          work.push_back({runs[k].model.get(), &ensembles[k],
+                          runs[k].observers.empty() ? nullptr : &parts[k]});
+        advance_parts(work, segment, x);
+        for (std::size_t k = 0; k < points; ++k)
+          if (!runs[k].observers.empty()) runs[k].observers.merge(std::move(parts[k]));
+      },
+      [](long long) {});
+  if (signal != 0) {
+    progress.end();
+    log << "qmaps: " << signal_name(signal) << " at step " << ensembles.front().step << " of "
+        << plan.total << ": a sweep keeps no checkpoint; stopped, nothing was written\n";
+    return static_cast<int>(ExitCode::interrupted);
+  }
   progress.end();
   const double seconds = progress.seconds();
 

@@ -1,7 +1,7 @@
 #pragma once
 // qmaps run of a configuration with [[sweep]] (docs/sweeps.md): every point's run is set up and
 // checked before any runs (a map that degenerates at a point is refused then), all points step
-// together (core/sweep_runner.hpp), and one file holds /sweep with each point's run.
+// together (core/runner.hpp), and one file holds /sweep with each point's run.
 #include <iosfwd>
 #include <string>
 

@@ -1,0 +1,39 @@
+#include "ensembles/program/segments.hpp"
+
+#include <algorithm>
+#include <cstdint>
+
+#include "ensembles/io/ranks.hpp"
+
+namespace qmaps {
+
+int SegmentLoop::run(long long from, const std::function<void(const RunPlan&)>& advance,
+                     const std::function<void(long long)>& between) const {
+  SelfSignal self_signal = SelfSignal::from_environment();
+  long long length = 1;
+  for (long long step = from; step < plan.total;) {
+    RunPlan segment = plan;
+    segment.first = step;
+    segment.last = std::min(plan.total, step + length);
+    if (checkpoint_every > 0)
+      segment.last = std::min(segment.last, (step / checkpoint_every + 1) * checkpoint_every);
+    segment.last = self_signal.segment_end(segment.first, segment.last);
+    const double t = progress.seconds();
+    advance(segment);
+    const double took = ranks::max(progress.seconds() - t);
+    step = segment.last;
+    progress.update(step);
+    if (on_segment) on_segment(step, plan.total);
+    if (step == plan.total) break;
+    self_signal.deliver_if_due(step);
+    const int signal = static_cast<int>(ranks::max(std::int64_t{interrupt.signal()}));
+    if (signal != 0) return signal;
+    between(step);
+    const bool few = length < min_segment_steps;
+    if (took < 0.1 || (few && took < 2)) length = std::min(2 * length, plan.total);
+    else if ((took > 0.4 && length > min_segment_steps) || (took > 8 && length > 1)) length /= 2;
+  }
+  return 0;
+}
+
+}  // namespace qmaps
