@@ -125,7 +125,8 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
-  const SegmentLoop segments{r.plan, r.checkpoint_every, progress, interrupt, options.on_segment};
+  const SegmentLoop segments{r.plan,   SegmentLoop::run_aim, r.checkpoint_every,
+                             progress, interrupt,            options.on_segment};
   const int signal = segments.run(
       e.step,
       [&](const RunPlan& segment) {

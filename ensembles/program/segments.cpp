@@ -29,9 +29,10 @@ int SegmentLoop::run(long long from, const std::function<void(const RunPlan&)>& 
     const int signal = static_cast<int>(ranks::max(std::int64_t{interrupt.signal()}));
     if (signal != 0) return signal;
     between(step);
-    const bool few = length < min_segment_steps;
-    if (took < 0.1 || (few && took < 2)) length = std::min(2 * length, plan.total);
-    else if ((took > 0.4 && length > min_segment_steps) || (took > 8 && length > 1)) length /= 2;
+    const bool few = length < aim.least_steps;
+    if (took < aim.shortest || (few && took < 2)) length = std::min(2 * length, plan.total);
+    else if ((took > aim.longest && length > aim.least_steps) || (took > 8 && length > 1))
+      length /= 2;
   }
   return 0;
 }

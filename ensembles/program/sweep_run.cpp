@@ -118,7 +118,8 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
   Progress progress(!options.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
   std::vector<Observers> blanks;
   for (const auto& r : runs) blanks.push_back(r.observers.empty_copy());
-  const SegmentLoop segments{plan, 0, progress, interrupt, options.on_segment};
+  const SegmentLoop segments{plan, SegmentLoop::sweep_aim, 0, progress, interrupt,
+                             options.on_segment};
   const int signal = segments.run(
       0,
       [&](const RunPlan& segment) {
