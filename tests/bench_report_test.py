@@ -1,7 +1,9 @@
 #!/usr/bin/python3
 """bench/report --smoke on tiny sizes: its JSON rows have exactly the documented keys and types,
 and every map appears on the scalar path and on every ISA compiled and supported here, on 1 and 2
-threads; every peer appears. Speeds are not checked.
+threads; every peer appears; the default preset's peer appears on each of its ISAs the CPU has, on
+1 and 2 threads, in the rows and in the report's table against qmaps' preset. Speeds are not
+checked.
 
     bench_report_test.py REPORT BUILD_DIR OUT_DIR --qmaps BINARY --isas I...
 
@@ -17,6 +19,23 @@ import sys
 KEYS = {"map", "path", "threads", "orbits", "steps", "observers", "particle_steps_per_second"}
 CPU_FLAGS = {"sse2": {"sse2"}, "avx2": {"avx2", "fma"}, "avx512": {"avx512f"}}
 PEERS = {"peer-limit", "peer-naive", "peer-eigen", "peer-numpy"}
+PRESET_ISAS = ("avx512", "avx2")  # bench/peers/preset_isa.cpp's
+PRESET_TABLE = "against its hand-written peer"  # in the heading of the report's table
+
+
+def table_after(report, heading):
+    """The rows of the first markdown table after the line containing `heading`: their cells."""
+    lines = report.splitlines()
+    start = next((i for i, line in enumerate(lines) if heading in line), None)
+    if start is None:
+        return []
+    rows = []
+    for line in lines[start + 1:]:
+        if not line.strip() and rows:
+            break
+        if line.startswith("|") and not line.startswith("|---"):
+            rows.append([c.strip() for c in line.strip().strip("|").split("|")])
+    return rows[1:]  # past the header
 
 
 def cpu_flags():
@@ -72,9 +91,23 @@ def main():
     errors += [f"no row for {p}" for p in PEERS if p not in {s[0] for s in seen}]
     if not any(isinstance(r, dict) and r.get("observers") for r in rows):
         errors.append("no row with observers")
+    preset_isas = [i for i in PRESET_ISAS if CPU_FLAGS[i] <= flags]
+    preset = {(r.get("path"), r.get("threads")) for r in rows
+              if isinstance(r, dict) and r.get("map") == "peer-preset" and r.get("observers")}
+    table = {(c[0], c[1]): c for c in table_after((out / "report.md").read_text(), PRESET_TABLE)
+             if len(c) == 7}
+    for i in preset_isas:
+        for t in (1, 2):
+            if (i, t) not in preset:
+                errors.append(f"no row for peer-preset on {i}, {t} thread(s)")
+            # qmaps' preset, the peer and their ratio, each a number
+            cells = table.get((i, str(t)), [])
+            if not cells or any(c == "–" for c in cells[2:5]):
+                errors.append(f"the preset's table has no figures for {i}, {t} thread(s): {cells}")
     for e in errors:
         print(e, file=sys.stderr)
-    print(f"{len(rows)} rows; maps {args.maps}; paths scalar + {isas}")
+    print(f"{len(rows)} rows; maps {args.maps}; paths scalar + {isas}; preset peer on "
+          f"{preset_isas}")
     sys.exit(1 if errors else 0)
 
 
