@@ -1,22 +1,14 @@
 #pragma once
-// The SIMD path for one block of K × W orbits (W lanes, K chains interleaved to hide the latency
-// of division). The block stays in registers for a chunk of steps (temporal blocking); the only
-// per-step extra is one addition: acc += |newest q|², a conservative escape test. When a chunk ends
-// with acc beyond the bound or non-finite in an alive lane, the chunk is replayed from its start
-// step by step, freezing each lane exactly where the reference path stops it. So every lane
-// computes exactly what the reference path computes for its orbit. A map whose step solves an
-// equation adds its lanes' fault codes to a second sum, with the same replay when one is not 0.
-// The samples (invariants, densities) are taken inside the chunk at the multiples of the stride,
-// each only where the test holds up to it (the chains' states held there and observed one chain
-// per step after it, overlapping the next steps' divisions); a chunk that trips there stops, and
-// its replay takes only the samples not yet taken (core/sample_schedule.hpp). The sections are
-// watched through per-step hooks (core/observers/section_watch.hpp), their kind chosen once per
-// chunk outside its loop.
-//
-// The scalar reference path is the same code at V = double, one orbit per block, one checked step
-// at a time (advance_range in core/runner.hpp): the reference and every ISA share one
-// implementation of stepping, escapes and observers. Each SIMD instantiation lives in its ISA's translation unit
-// (core/simd_unit.cpp.in, through core/simd_blocks.hpp).
+// One block of K × W orbits (W lanes, K chains interleaved to hide the latency of division),
+// kept in registers for a chunk of steps whose only per-step extra is acc += |newest q|², a
+// conservative escape test (and a sum of fault codes for a map that solves an equation). A chunk
+// whose test trips is replayed step by step, freezing each lane exactly where the reference path
+// stops it, so every lane computes what the reference computes for its orbit. The samples are
+// taken inside the chunk where the test holds up to them (core/sample_schedule.hpp), observed one
+// chain per step after it to overlap the next divisions; the sections are watched through their
+// per-step hooks (core/observers/section_watch.hpp), chosen once per chunk outside its loop.
+// The scalar reference path is this code at V = double, one orbit, one checked step at a time
+// (core/runner.hpp); each SIMD instantiation lives in its ISA's unit (core/simd_unit.cpp.in).
 #include <algorithm>
 #include <cstddef>
 #include <tuple>
@@ -32,7 +24,6 @@
 #include "core/sample_schedule.hpp"
 
 namespace qmaps {
-
 namespace detail {
 
 inline constexpr long long max_chunk = 256;
@@ -59,7 +50,11 @@ template <class Map, class V, int K, class Watch, class Sample>
                                               typename Map::template State<V> (&s)[K],
                                               Watch& watching, Sample& sample) {
   using State = typename Map::template State<V>;
-  ChunkSamples& samples = chunk.samples;
+  // The chunk's fields in locals, which no store in the loop can alias.
+  const auto& c = chunk.c;
+  const long long steps = chunk.steps;
+  const V bound2 = chunk.bound2;
+  ChunkSamples samples = chunk.samples;
   State w[K];
   for (int k = 0; k < K; ++k) w[k] = s[k];
   Watch watch = watching;
@@ -81,7 +76,7 @@ template <class Map, class V, int K, class Watch, class Sample>
     if (j + 1 != samples.at) return true;
     V reach = acc;
     for (int k = 0; k < K; ++k) reach = reach + Map::escape_measure(w[k]);
-    if (ops::any(ops::negate(reach <= chunk.bound2) | (faults != V(0.0)))) [[unlikely]]
+    if (ops::any(ops::negate(reach <= bound2) | (faults != V(0.0)))) [[unlikely]]
       return clean = false;
     while (unobserved < K) observe_one();  // a stride shorter than the chains
     for (int k = 0; k < K; ++k) held[k] = w[k];
@@ -93,22 +88,22 @@ template <class Map, class V, int K, class Watch, class Sample>
   const auto advance = [&](int k) {  // one step of chain k, its escape measure summed before it
     acc = acc + Map::escape_measure(w[k]);
     if constexpr (Map::reports_faults)
-      faults = faults + Map::step(chunk.c, w[k]);
+      faults = faults + Map::step(c, w[k]);
     else
-      Map::step(chunk.c, w[k]);
+      Map::step(c, w[k]);
   };
   if constexpr (Watch::idle) {
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
 #pragma GCC unroll 2
-    for (long long j = 0; j < chunk.steps; ++j) {
+    for (long long j = 0; j < steps; ++j) {
       for (int k = 0; k < K; ++k) advance(k);
       observe_one();
       if (!samples_taken(j)) break;
     }
   } else {
     watch.start(w);
-    for (long long j = 0; j < chunk.steps; ++j) {
+    for (long long j = 0; j < steps; ++j) {
 #pragma GCC unroll 8
       for (int k = 0; k < K; ++k) {
         watch.before(k, w[k]);
@@ -122,17 +117,19 @@ template <class Map, class V, int K, class Watch, class Sample>
   }
   while (unobserved < K) observe_one();
   watching.kept = watch.kept;
+  chunk.samples = samples;
   if (!clean) return true;
   for (int k = 0; k < K; ++k) {
     s[k] = w[k];
     acc = acc + Map::escape_measure(w[k]);
   }
-  return ops::any(ops::negate(acc <= chunk.bound2) | (faults != V(0.0)));
+  return ops::any(ops::negate(acc <= bound2) | (faults != V(0.0)));
 }
 
 // The same, out of line, for blocks of 8 chains: their states alone fill the 32 registers, and a
 // loop allocated apart from the block's many live values spills less (measured: 5.1e9 against
-// 4.4e9 particle-steps/s for Suris on AVX-512). Blocks of up to 4 chains fit in registers inline.
+// 4.4e9 particle-steps/s for Suris on AVX-512). One chain runs apart too (inlined in the block,
+// its loop ran at 0.70× of this); blocks of 2 and 4 chains fit in registers inline.
 template <class Map, class V, int K, class Watch, class Sample>
 [[gnu::noinline, gnu::flatten]] bool step_chunk_apart(const Chunk<Map, V>& chunk,
                                                       typename Map::template State<V> (&s)[K],
@@ -144,7 +141,7 @@ template <class Map, class V, int K, class Watch, class Sample>
 [[gnu::always_inline]] inline bool step_any_chunk(const Chunk<Map, V>& chunk,
                                                   typename Map::template State<V> (&s)[K],
                                                   Watch& watch, Sample& sample) {
-  if constexpr (K == 8)
+  if constexpr (K == 1 || K == 8)
     return step_chunk_apart<Map, V, K>(chunk, s, watch, sample);
   else
     return step_chunk<Map, V, K>(chunk, s, watch, sample);
@@ -183,9 +180,7 @@ class Block {
   }
 
   bool any_alive() const {
-    bool any = false;
-    for (int k = 0; k < K; ++k) any = any || ops::any(alive_[k]);
-    return any;
+    return std::any_of(alive_, alive_ + K, [](Mask m) { return ops::any(m); });
   }
 
   // Advances the block from plan.first to plan.last and stores it.
@@ -196,16 +191,10 @@ class Block {
     for (long long n = plan_.first; n < plan_.last;) {
       long long next = std::min(plan_.last, n + detail::max_chunk);
       if (stepping == Stepping::single_steps || sections_.step_by_step()) next = n + 1;
-      if (next == n + 1) {  // a single step is checked as it goes, and observed in registers
-        single_step(next);
-        n = next;
-        if (!any_alive()) break;
-        continue;
-      }
-      const bool suspect = chunk(n, next);
+      const bool checked = next == n + 1 ? single_step(next) : chunk(n, next);
+      if (next > n + 1) schedule_.reach(next);
       n = next;
-      schedule_.reach(n);
-      if (suspect && !any_alive()) break;
+      if (checked && !any_alive()) break;  // lanes may have escaped
     }
     for (int k = 0; k < K; ++k) {
       L::store(e_, first_ + k * W, L::select(alive_[k], s_[k], frozen_[k]));
@@ -243,7 +232,8 @@ class Block {
   void sample_chains() {
     for (int k = 0; k < K; ++k) sample(k, s_[k]);
   }
-  void single_step(long long next) {
+  // A single step, checked as it goes and observed in registers; it was checked (true).
+  bool single_step(long long next) {
     const bool sampled = schedule_.single_step(next);
     sections_.refresh_before(s_);
 #pragma GCC unroll 8
@@ -252,6 +242,7 @@ class Block {
       sections_.check(k, s_[k], alive_[k], next);
       if (sampled) sample(k, s_[k]);
     }
+    return true;
   }
   // The chunk of steps n + 1 .. next in registers, replayed step by step where it is suspect;
   // whether it was.
