@@ -186,8 +186,10 @@ template <class A>
 inline batch<A> floor(batch<A> a) {
   if constexpr (detail::form<A> == detail::Form::avx512f)  // xsimd's form: an undefined register
     return _mm512_maskz_roundscale_pd(0xFF, a, _MM_FROUND_TO_NEG_INF);
-  else if constexpr (detail::form<A> != detail::Form::fallback)
+  else if constexpr (detail::form<A> == detail::Form::avx2_fma)
     return xsimd::floor(a);
+  else if constexpr (detail::form<A> == detail::Form::sse2)  // xsimd's SSE2 floor truncates
+    return xsimd::floor(a) | (a & batch<A>(-0.0));  // through integers: −0 needs its sign back
   else
     return detail::per_lane(a, [](double x) { return std::floor(x); });
 }
