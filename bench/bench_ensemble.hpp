@@ -72,14 +72,14 @@ inline BenchSetup& bench_setup(std::string_view key, std::size_t orbits,
 }
 
 // The next `steps` steps of e, invariants tracked or not.
-inline RunPlan next_steps(const Ensemble& e, long long steps, bool track_invariants,
+inline RunPlan next_steps(const Ensemble& e, long long steps, bool measure_orbits,
                           long long stride = 1) {
   RunPlan plan;
   plan.total = 1LL << 60;
   plan.first = e.step;
   plan.last = e.step + steps;
   plan.stride = stride;
-  plan.track_invariants = track_invariants;
+  plan.measure_orbits = measure_orbits;
   return plan;
 }
 

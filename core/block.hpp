@@ -6,7 +6,7 @@
 // stops it, so every lane computes what the reference computes for its orbit. The samples are
 // taken inside the chunk where the test holds up to them (core/sample_schedule.hpp), observed one
 // chain per step after it to overlap the next divisions; the sections are watched through their
-// per-step hooks (core/observers/section_watch.hpp), chosen once per chunk outside its loop.
+// per-step hooks (core/observers/section/section_watch.hpp), chosen once per chunk outside its loop.
 // The scalar reference path is this code at V = double, one orbit, one checked step at a time
 // (core/runner.hpp); each SIMD instantiation lives in its ISA's unit (core/simd_unit.cpp.in).
 #include <algorithm>
@@ -16,10 +16,10 @@
 #include "core/ensemble.hpp"
 #include "core/lanes.hpp"
 #include "core/ops.hpp"
-#include "core/observers/density_lanes.hpp"
-#include "core/observers/invariant_track.hpp"
+#include "core/observers/density/density_lanes.hpp"
+#include "core/observers/lane_observers.hpp"
 #include "core/observers/observers.hpp"
-#include "core/observers/section_watch.hpp"
+#include "core/observers/section/section_watch.hpp"
 #include "core/run_plan.hpp"
 #include "core/sample_schedule.hpp"
 
@@ -169,7 +169,7 @@ class Block {
       : c_(c), e_(e), first_(first), plan_(plan), observers_(observers),
         densities_(observers && !observers->densities.empty()),
         density_momentum_(densities_ && observers->densities_need_momentum()),
-        schedule_(plan, plan.track_invariants || densities_),
+        schedule_(plan, plan.measure_orbits || densities_),
         sections_(c, observers, first, detail::max_chunk), bound2_(plan.escape_bound2()) {
     parked_.fill(V(0.0));
     for (int k = 0; k < K; ++k) {
@@ -185,7 +185,7 @@ class Block {
 
   // Advances the block from plan.first to plan.last and stores it.
   void advance(Stepping stepping) {
-    for (int k = 0; k < K; ++k) track_[k].load(e_, first_ + k * W);
+    for (int k = 0; k < K; ++k) measures_[k].load(e_, first_ + k * W);
     if (densities_ && plan_.first == 0)
       for (int k = 0; k < K; ++k) count_densities(k, s_[k]);
     for (long long n = plan_.first; n < plan_.last;) {
@@ -198,7 +198,7 @@ class Block {
     }
     for (int k = 0; k < K; ++k) {
       L::store(e_, first_ + k * W, L::select(alive_[k], s_[k], frozen_[k]));
-      track_[k].store(e_, first_ + k * W);
+      measures_[k].store(e_, first_ + k * W);
     }
   }
 
@@ -226,7 +226,7 @@ class Block {
   }
   // The samples of chain k at its node x.
   void sample(int k, const State& x) {
-    if (plan_.track_invariants) track_[k].sample(c_, x, alive_[k]);
+    if (plan_.measure_orbits) measures_[k].sample(c_, x, alive_[k]);
     if (densities_) count_densities(k, x);
   }
   void sample_chains() {
@@ -284,7 +284,7 @@ class Block {
   V bound2_;
   State s_[K], frozen_[K], parked_;
   Mask alive_[K];
-  InvariantTrack<Map, V> track_[K];
+  LaneObservers<Map, V> measures_[K];
 };
 
 // flatten: the map's step is inlined into the chains' loop whatever its size, so that the K

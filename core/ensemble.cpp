@@ -1,29 +1,48 @@
 #include "core/ensemble.hpp"
 
+#include <stdexcept>
+
 #include "core/error.hpp"
 
 namespace qmaps {
 
-Ensemble::Ensemble(std::size_t n, std::size_t state_size, std::size_t invariants)
+Ensemble::Ensemble(std::size_t n, std::size_t state_size,
+                   const std::vector<std::vector<ColumnSpec>>& measured)
     : orbits(n), padded((n + padding - 1) / padding * padding) {
   if (n == 0) throw usage_error("an ensemble needs at least one orbit");
   for (std::size_t k = 0; k < state_size; ++k) state.emplace_back(padded);
   escape_step = AlignedArray<std::int64_t>(padded, -1);
   escape_reason = AlignedArray<std::uint8_t>(padded, 0);
-  for (std::size_t k = 0; k < invariants; ++k) {
-    invariant_initial.emplace_back(padded);
-    invariant_max_drift.emplace_back(padded);
+  for (const auto& specs : measured) {
+    first_column_.push_back(column_specs.size());
+    for (const auto& spec : specs) {
+      column_specs.push_back(spec);
+      columns.emplace_back(padded);
+    }
   }
+  first_column_.push_back(column_specs.size());
+}
+
+std::span<AlignedArray<double>> Ensemble::columns_of(std::size_t m) {
+  if (m + 1 >= first_column_.size()) return {};
+  return std::span(columns).subspan(first_column_[m], first_column_[m + 1] - first_column_[m]);
+}
+
+std::span<const AlignedArray<double>> Ensemble::columns_of(std::size_t m) const {
+  return const_cast<Ensemble&>(*this).columns_of(m);
+}
+
+const AlignedArray<double>& Ensemble::column(std::string_view path) const {
+  for (std::size_t c = 0; c < column_specs.size(); ++c)
+    if (column_specs[c].path == path) return columns[c];
+  throw std::logic_error("the ensemble has no column " + std::string(path));
 }
 
 void Ensemble::set_orbit(std::size_t i, const Ensemble& from, std::size_t j) {
   for (std::size_t k = 0; k < state.size(); ++k) state[k][i] = from.state[k][j];
   escape_step[i] = from.escape_step[j];
   escape_reason[i] = from.escape_reason[j];
-  for (std::size_t k = 0; k < invariant_initial.size(); ++k) {
-    invariant_initial[k][i] = from.invariant_initial[k][j];
-    invariant_max_drift[k][i] = from.invariant_max_drift[k][j];
-  }
+  for (std::size_t c = 0; c < columns.size(); ++c) columns[c][i] = from.columns[c][j];
 }
 
 void Ensemble::fill_padding() {

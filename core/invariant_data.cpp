@@ -39,7 +39,7 @@ StepsAdded add_steps(const Model& model, Ensemble& e, long long steps, double es
   RunPlan plan;
   plan.total = steps;
   plan.escape_bound = escape_bound;
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   for (long long step = 0; step < steps; ++step) {
     take(before);
     plan.first = step;

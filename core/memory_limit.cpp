@@ -7,6 +7,8 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "core/error.hpp"
+
 namespace qmaps {
 namespace {
 
@@ -44,6 +46,16 @@ MemoryLimit memory_limit() {
   if (cgroup >> max && max > 0 && max < limit.bytes)  // "max" (no limit) does not parse
     limit = {max, "the cgroup's memory limit (memory.max)"};
   return limit;
+}
+
+void check_fits(double bytes, const std::string& where, const std::string& needs,
+                const std::string& after) {
+  const MemoryLimit have = memory_limit();
+  if (bytes <= have.bytes) return;
+  char text[200];
+  std::snprintf(text, sizeof text, " need about %.3g GiB; %s is %.3g GiB", bytes / (1 << 30),
+                have.what.c_str(), have.bytes / (1 << 30));
+  throw usage_error(where + ": " + needs + text + after);
 }
 
 }  // namespace qmaps

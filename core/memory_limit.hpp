@@ -13,4 +13,10 @@ struct MemoryLimit {
 
 MemoryLimit memory_limit();
 
+// Refuses (a usage error) work that needs more than memory_limit(): "<where>: <needs> need about
+// X GiB; <the limit> is Y GiB<after>", where `needs` says what needs `bytes` (e.g. "1000
+// orbits") and `after` may say how it divides, or what to do.
+void check_fits(double bytes, const std::string& where, const std::string& needs,
+                const std::string& after = "");
+
 }  // namespace qmaps

@@ -29,10 +29,16 @@ class Model {
   virtual std::span<const std::string_view> state_names() const = 0;
   virtual const std::vector<std::string>& invariant_names() const = 0;
 
-  // An ensemble of `orbits` orbits laid out for this map, every orbit still to be started.
-  Ensemble ensemble(std::size_t orbits) const {
-    return Ensemble(orbits, state_names().size(), invariant_names().size());
+  // An ensemble of `orbits` orbits laid out for this map, every orbit still to be started, with
+  // the columns of every lane measurement (core/observers/lane_observers.hpp); `asked` names the
+  // optional ones the run turns on.
+  Ensemble ensemble(std::size_t orbits, std::span<const std::string> asked = {}) const {
+    return Ensemble(orbits, state_names().size(), lane_columns(asked));
   }
+  virtual std::vector<std::vector<ColumnSpec>> lane_columns(
+      std::span<const std::string> asked) const = 0;
+  // The configuration tables that turn on its optional lane measurements.
+  virtual std::vector<std::string_view> lane_keys() const = 0;
   // Starts orbits [first, first + initial.size()) of `e` at these phase-space points (orbits whose
   // start is already beyond the bound or non-finite are escaped at step 0), with their
   // invariants' initial values. Once every orbit is started, e.fill_padding() completes `e`.

@@ -8,6 +8,7 @@
 #include "core/error.hpp"
 #include "core/map_concept.hpp"
 #include "core/model.hpp"
+#include "core/observers/lane_observers.hpp"
 #include "core/runner.hpp"
 
 namespace qmaps {
@@ -27,6 +28,13 @@ class ModelOf final : public Model {
   std::span<const double> param_values() const override { return values_; }
   std::span<const std::string_view> state_names() const override { return Map::state_names; }
   const std::vector<std::string>& invariant_names() const override { return invariant_names_; }
+  std::vector<std::vector<ColumnSpec>> lane_columns(
+      std::span<const std::string> asked) const override {
+    return LaneObservers<Map, double>::columns(c_, asked);
+  }
+  std::vector<std::string_view> lane_keys() const override {
+    return LaneObservers<Map, double>::keys();
+  }
   const typename Map::Coeffs& coeffs() const { return c_; }
 
   void start_at(Ensemble& e, std::size_t first, std::span<const Phase> initial, Start rule,
@@ -155,12 +163,7 @@ class ModelOf final : public Model {
         e.escape_step[i] = 0;
         e.escape_reason[i] = escape_reason(0, s);
       }
-      double values[Map::max_invariants];
-      Map::invariants(c_, s, values);
-      for (std::size_t k = 0; k < invariant_names_.size(); ++k) {
-        e.invariant_initial[k][i] = values[k];
-        e.invariant_max_drift[k][i] = 0;
-      }
+      LaneObservers<Map, double>::start(c_, s, e, i);
     }
   }
 

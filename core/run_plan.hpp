@@ -12,7 +12,7 @@ struct RunPlan {
   long long total = 0;
   long long stride = 1;
   double escape_bound = 1e8;      // an orbit escapes when |q| > escape_bound or it is non-finite
-  bool track_invariants = true;
+  bool measure_orbits = true;
 
   double escape_bound2() const { return escape_bound * escape_bound; }
 };

@@ -4,7 +4,7 @@
 // time: every other path must reproduce it bit for bit. A SIMD path (core/dispatch.hpp) takes
 // whole blocks of lanes × chains orbits. Each thread counts into its own empty copy of the
 // observers' histograms, merged exactly when all are done (integer counts), and writes its
-// orbits' section points straight into their slots (core/observers/section_points.hpp).
+// orbits' section points straight into their slots (core/observers/section/section_points.hpp).
 #include <algorithm>
 #include <cstddef>
 #include <span>

@@ -125,14 +125,9 @@ py::tuple orbit(const std::string& map, const std::vector<std::string>& sets, co
     columns = c;
     const double rows = static_cast<double>(std::max(0LL, steps) / std::max(1LL, every)) + 1;
     const double bytes = 2 * rows * static_cast<double>(c.size()) * sizeof(double);
-    const qmaps::MemoryLimit limit = qmaps::memory_limit();
-    if (bytes > limit.bytes) {
-      char need[160];
-      std::snprintf(need, sizeof need, "orbit: %.0f rows of %zu columns need about %.3g GiB",
-                    rows, c.size(), bytes / (1 << 30));
-      throw qmaps::usage_error(std::string(need) + ", more than " + limit.what +
-                               " allows; keep fewer rows with every");
-    }
+    char need[100];
+    std::snprintf(need, sizeof need, "%.0f rows of %zu columns", rows, c.size());
+    qmaps::check_fits(bytes, "orbit", need, "; keep fewer rows with every");
     values.reserve(static_cast<std::size_t>(rows) * c.size());
   };
   {

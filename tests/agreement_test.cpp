@@ -102,12 +102,10 @@ std::string first_difference(const Ensemble& ref, const Ensemble& e, std::size_t
         out << "reference " << hex(ref.state[k][i]) << " vs " << hex(e.state[k][i]);
         return out.str();
       }
-    for (std::size_t k = 0; k < ref.invariant_max_drift.size(); ++k)
-      if (std::memcmp(&ref.invariant_max_drift[k][i], &e.invariant_max_drift[k][i],
-                      sizeof(double)) != 0) {
-        where("max_abs_drift", k, i);
-        out << "reference " << hex(ref.invariant_max_drift[k][i]) << " vs "
-            << hex(e.invariant_max_drift[k][i]);
+    for (std::size_t k = 0; k < ref.columns.size(); ++k)
+      if (std::memcmp(&ref.columns[k][i], &e.columns[k][i], sizeof(double)) != 0) {
+        where(ref.column_specs[k].path.c_str(), k, i);
+        out << "reference " << hex(ref.columns[k][i]) << " vs " << hex(e.columns[k][i]);
         return out.str();
       }
     if (ref.escape_step[i] != e.escape_step[i] || ref.escape_reason[i] != e.escape_reason[i]) {

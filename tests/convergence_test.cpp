@@ -25,7 +25,7 @@ Phase exact(const ParamValues& flow_params, double T) {
   Ensemble e = flow->start(std::span(&start_point, 1), Start::taylor, 1e8);
   RunPlan plan;
   plan.total = plan.last = steps;
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   flow->advance(e, plan, Execution{});
   return flow->phase(e, 0);
 }
@@ -42,7 +42,7 @@ Result error_at_one(const std::string& map, ParamValues params, const char* step
   Ensemble e = model->start(std::span(&start_point, 1), rule, 1e8);
   RunPlan plan;
   plan.total = plan.last = std::llround(1 / step);
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   model->advance(e, plan, Execution{});
   const double T = model->time(e, 0);
   const Phase x = model->phase(e, 0), ref = exact(flow_params, T);

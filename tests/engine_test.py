@@ -282,7 +282,7 @@ def test_orbit_errors_and_escapes():
         qmaps.orbit("suris", {}, (0.1, 0, 0, 0))
     with pytest.raises(qmaps.ConfigError, match="every=0: must be an integer >= 1"):
         qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1}, (0.1, 0, 0, 0), every=0)
-    with pytest.raises(qmaps.ConfigError, match=r"rows of 10 columns need about .* GiB, more than"):
+    with pytest.raises(qmaps.ConfigError, match=r"rows of 10 columns need about .* GiB; .* is .* GiB; keep fewer rows"):
         qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1}, (0.1, 0, 0, 0),
                     steps=10**13)
     with pytest.warns(RuntimeWarning, match="escaped at step 3 "):

@@ -9,7 +9,7 @@
 #include <cstring>
 #include <vector>
 
-#include "core/observers/section_lanes.hpp"
+#include "core/observers/section/section_lanes.hpp"
 #include "ensemble_fixtures.hpp"
 #include "isas_run.hpp"
 #include "kernels/flow.hpp"

@@ -129,7 +129,14 @@ class HostileFiles(unittest.TestCase):
             q = f["final/state/q1_n"][...]
             q[0] = np.nan
             f["final/state/q1_n"][...] = q
-        self.resume(nan, "has not escaped but holds a value that is not finite")
+        self.resume(nan, "has not escaped but its q1_n is not finite")
+
+    def test_a_checkpoint_with_a_negative_drift_is_refused(self):
+        def negative(f):
+            d = f["invariants/H/max_abs_drift"][...]
+            d[0] = -1e-300
+            f["invariants/H/max_abs_drift"][...] = d
+        self.resume(negative, "its invariants/H/max_abs_drift is -1e-300, below its least value 0")
 
     def test_a_checkpoint_with_enormous_counts_is_refused(self):
         def counts(f):

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "core/observers/invariants/invariant_columns.hpp"
 #include "core/isa.hpp"
 #include "ensemble_fixtures.hpp"
 #include "kernels/suris.hpp"
@@ -59,12 +60,12 @@ TEST_P(Invariants, DriftOverHundredThousandStepsStaysWithinTheMapsBound) {
   ASSERT_FALSE(names.empty());
   for (std::size_t k = 0; k < names.size(); ++k) {
     double scale = 0;
-    for (std::size_t i = 0; i < e.orbits; ++i) scale += std::fabs(e.invariant_initial[k][i]);
+    for (std::size_t i = 0; i < e.orbits; ++i) scale += std::fabs(invariant_initial(e, k)[i]);
     scale /= static_cast<double>(e.orbits);
     std::vector<double> per_orbit(e.orbits), to_scale(e.orbits);
     for (std::size_t i = 0; i < e.orbits; ++i) {
-      per_orbit[i] = e.invariant_max_drift[k][i] / std::fabs(e.invariant_initial[k][i]);
-      to_scale[i] = e.invariant_max_drift[k][i] / scale;
+      per_orbit[i] = invariant_drift(e, k)[i] / std::fabs(invariant_initial(e, k)[i]);
+      to_scale[i] = invariant_drift(e, k)[i] / scale;
     }
     std::sort(per_orbit.begin(), per_orbit.end());
     std::sort(to_scale.begin(), to_scale.end());

@@ -100,8 +100,8 @@ class Limits(unittest.TestCase):
         # point's observers (30 MiB) fit the 2 GiB limit, some hundred points' would not.
         r = run(self.dir, "run", "run.toml", "--threads", "2", "--quiet",
                 address_space=2 << 30)
-        self.refused(r, 2, "[sweep[0]]: 10000 points, 1280000 orbits in all, need about",
-                     "GiB with their observers", "address-space limit (ulimit -v)")
+        self.refused(r, 2, "[sweep[0]]: 10000 points, 1280000 orbits in all, with their observers, "
+                     "need about", "address-space limit (ulimit -v)")
         self.nothing_left()
 
     # Threads: a bound, the user's process limit, and what can start.

@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/observers/invariants/invariant_columns.hpp"
 #include "core/isa.hpp"
 #include "core/observers/histogram_lanes.hpp"
 #include "ensemble_fixtures.hpp"
@@ -146,7 +147,7 @@ TEST(Observers, SectionsWatchedInsideChunksAreBitIdenticalOnEveryPath) {
     const auto model = testing::suris(0.7, 0.3, alpha, 0.1);
     const auto points = testing::box_points(2001, alpha > 0 ? 0.5 : 1.2, alpha > 0 ? 0.5 : 1.0);
     RunPlan plan = plan_of(1000, 1000, alpha > 0 ? 1e8 : 10);
-    plan.track_invariants = false;
+    plan.measure_orbits = false;
     const auto make = [&] {
       Observers o;
       o.sections.push_back(section("q1both", Coordinate::q1, 0, false, 1000, points.size()));
@@ -262,9 +263,8 @@ TEST(Observers, DensitiesAndDriftWithoutSectionsAreBitIdenticalAtStrideOneAndSev
           EXPECT_TRUE(same_column(e.escape_step, e0.escape_step, e.orbits)) << where;
           for (std::size_t k = 0; k < e.state.size(); ++k)
             EXPECT_TRUE(same_column(e.state[k], e0.state[k], e.orbits)) << where;
-          for (std::size_t k = 0; k < e.invariant_max_drift.size(); ++k)
-            EXPECT_TRUE(same_column(e.invariant_max_drift[k], e0.invariant_max_drift[k], e.orbits))
-                << where;
+          for (std::size_t k = 0; k < e.columns.size(); ++k)
+            EXPECT_TRUE(same_column(e.columns[k], e0.columns[k], e.orbits)) << where;
         }
     }
 }
@@ -372,7 +372,7 @@ TEST(Observers, LinearMapDensityFollowsArcsineLawWithinTolerance) {
   const auto model = testing::suris(0.7, 0.3, 0.0, 0.1);
   const Phase x0{0.3, -0.2, 0.1, 0.4};
   Ensemble e = model->start(std::span(&x0, 1), Start::taylor, 1e8);
-  const double a = 1 - 0.7 * 0.01, C = std::sqrt(e.invariant_initial[1][0] / (1 - a * a));
+  const double a = 1 - 0.7 * 0.01, C = std::sqrt(invariant_initial(e, 1)[0] / (1 - a * a));
   Observers o;
   o.densities.push_back({Histogram("q1", {{"q1", -C, C, 50}}), {Coordinate::q1}});
   model->advance(e, plan_of(1000000, 1), Execution{}, &o);

@@ -44,7 +44,7 @@ TEST_P(Reversibility, ForwardThenBackwardReturnsToStartWithinTolerance) {
   Ensemble e = model->start(testing::box_points(64, 0.5, 0.5, 11), Start::taylor, 1e8);
   RunPlan plan;
   plan.total = plan.last = 1000;
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   model->advance(e, plan, Execution{best_isa(), 1, 4});
   model->reverse(e);
   model->advance(e, plan, Execution{best_isa(), 1, 4});

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "core/observers/invariants/invariant_columns.hpp"
 #include "core/observers/observers.hpp"
 #include "preset.hpp"
 #include "suris_peer.hpp"
@@ -61,7 +62,7 @@ struct PresetState {
     const Ensemble e = bench_ensemble(*model, orbits);
     for (std::size_t k = 0; k < 4; ++k) x[k].assign(e.state[k].data(), e.state[k].data() + n);
     for (std::size_t i = 0; i < 3; ++i) {
-      initial[i].assign(e.invariant_initial.at(i).data(), e.invariant_initial[i].data() + n);
+      initial[i].assign(invariant_initial(e, i).data(), invariant_initial(e, i).data() + n);
       drift[i].assign(n, 0.0);
       last[i].assign(n, 0.0);
     }
@@ -114,7 +115,7 @@ struct Reference {
                            {Coordinate::q1, Coordinate::q2}});
     model->advance(e, next_steps(e, steps, true, preset_stride), Execution{}, &o);
     for (std::size_t i = 0; i < orbits; ++i) {
-      const double v[2] = {e.invariant_initial[0][i], e.invariant_initial[1][i]};
+      const double v[2] = {invariant_initial(e, 0)[i], invariant_initial(e, 1)[i]};
       image.add(v);
     }
     std::vector<double*> out;
@@ -150,7 +151,7 @@ std::string preset_difference(const Reference& q, Loop loop, int chains, long lo
   for (std::size_t k = 0; k < 4; ++k)
     states &= same_bytes(mine.x[k].data(), q.e.state[k].data(), n);
   for (std::size_t i = 0; i < 3; ++i) {
-    drifts &= same_bytes(mine.drift[i].data(), q.e.invariant_max_drift[i].data(), n);
+    drifts &= same_bytes(mine.drift[i].data(), invariant_drift(q.e, i).data(), n);
     lasts &= same_bytes(mine.last[i].data(), q.last[i].data(), n);
   }
   check(states, "states");

@@ -53,7 +53,7 @@ inline double suris_difference(const std::function<void(Columns&, long long)>& p
   Ensemble e = bench_ensemble(*model, orbits);
   RunPlan plan;
   plan.total = plan.last = steps;
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   model->advance(e, plan, Execution{});
   double worst = 0;
   for (std::size_t k = 0; k < 4; ++k)

@@ -7,8 +7,8 @@
 // depend on threads.
 #include <vector>
 
-#include "core/observers/density.hpp"
-#include "core/observers/section.hpp"
+#include "core/observers/density/density.hpp"
+#include "core/observers/section/section.hpp"
 
 namespace qmaps {
 

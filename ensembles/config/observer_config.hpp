@@ -7,9 +7,9 @@
 #include "ensembles/config/config.hpp"
 #include "core/observers/histogram.hpp"
 #include "core/model.hpp"
-#include "core/observers/invariant_image.hpp"
+#include "core/observers/invariants/invariant_image.hpp"
 #include "core/observers/observers.hpp"
-#include "core/observers/trajectory.hpp"
+#include "core/observers/trajectory/trajectory.hpp"
 
 namespace qmaps {
 

@@ -116,15 +116,12 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
   const auto escape = root.open_group("escape");
   read_column(escape, "step", e.escape_step.span().subspan(first, n), rows);
   read_column(escape, "reason", e.escape_reason.span().subspan(first, n), rows);
-  const auto invariants = root.open_group("invariants");
-  const auto& inv_names = model.invariant_names();
-  for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    const auto g = invariants.open_group(inv_names[k]);
-    read_column(g, "initial", e.invariant_initial[k].span().subspan(first, n), rows);
-    read_column(g, "max_abs_drift", e.invariant_max_drift[k].span().subspan(first, n), rows);
+  for (std::size_t c = 0; c < e.columns.size(); ++c) {
+    const auto [group, name] = dataset_at(root, e.column_specs[c].path);
+    read_column(group, name, e.columns[c].span().subspan(first, n), rows);
   }
-  // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and finite states,
-  // invariants and drifts for the orbits that have not escaped.
+  // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and for the orbits
+  // that have not escaped, finite states and measured columns, none below its least value.
   if (e.step < 0) throw bad(state, "step " + std::to_string(e.step));
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t i = first + j;
@@ -138,14 +135,17 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
       throw bad(escape, "orbit " + std::to_string(j) + " has escape reason " +
                             std::to_string(e.escape_reason[i]));
     if (at >= 0) continue;
-    bool finite = true;
-    for (std::size_t k = 0; k < names.size(); ++k) finite = finite && std::isfinite(e.state[k][i]);
-    for (std::size_t k = 0; k < inv_names.size(); ++k)
-      finite = finite && std::isfinite(e.invariant_initial[k][i]) &&
-               std::isfinite(e.invariant_max_drift[k][i]) && e.invariant_max_drift[k][i] >= 0;
-    if (!finite)
-      throw bad(root, "orbit " + std::to_string(j) +
-                          " has not escaped but holds a value that is not finite (or a negative drift)");
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (!std::isfinite(e.state[k][i]))
+        throw bad(state, "orbit " + std::to_string(j) + " has not escaped but its " +
+                             std::string(names[k]) + " is not finite");
+    for (std::size_t c = 0; c < e.columns.size(); ++c)
+      if (!(e.columns[c][i] >= e.column_specs[c].least) || !std::isfinite(e.columns[c][i]))
+        throw bad(root, "orbit " + std::to_string(j) + " has not escaped but its " +
+                            e.column_specs[c].path + " is " + number_text(e.columns[c][i]) +
+                            (std::isfinite(e.columns[c][i])
+                                 ? ", below its least value " + number_text(e.column_specs[c].least)
+                                 : std::string()));
     if (const auto why = model.invalid_record(e, i); !why.empty())
       throw bad(state, "orbit " + std::to_string(j) + ": " + why);
   }

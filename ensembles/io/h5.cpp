@@ -248,7 +248,14 @@ Group Group::open_group(const std::string& name) const {
   return Group(Handle(checked(H5Gopen2(id(), name.c_str(), H5P_DEFAULT),
                               "no group " + path_ + "/" + name),
                       H5Gclose),
-               path_ == "/" ? "/" + name : path_ + "/" + name, 0, shared_);
+               path_ == "/" ? "/" + name : path_ + "/" + name, deflate_, shared_);
+}
+
+Group Group::group_at(const std::string& path) const {
+  const std::size_t slash = path.find('/');
+  const std::string name = path.substr(0, slash);
+  Group g = has(name) ? open_group(name) : create_group(name);
+  return slash == std::string::npos ? std::move(g) : g.group_at(path.substr(slash + 1));
 }
 
 bool Group::has(const std::string& name) const { return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0; }

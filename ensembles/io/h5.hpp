@@ -48,6 +48,8 @@ class Group {
       : h_(std::move(h)), path_(std::move(path)), deflate_(deflate), shared_(shared) {}
   Group create_group(const std::string& name) const;
   Group open_group(const std::string& name) const;
+  // The group at a relative path "a/b/c", each group on the way that is missing created.
+  Group group_at(const std::string& path) const;
   bool has(const std::string& name) const;
   std::vector<std::string> members() const;
   const std::string& path() const { return path_; }

@@ -5,6 +5,7 @@
 #include <ctime>
 #include <cstdint>
 #include <future>
+#include <stdexcept>
 #include <system_error>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
 #include "ensembles/io/statistics.hpp"
+#include "core/observers/invariants/invariant_columns.hpp"
 
 namespace qmaps {
 namespace {
@@ -52,6 +54,14 @@ void write_columns(const std::vector<Column>& columns, Rows rows, Fill fill) {
     for (std::size_t k = 0; k < columns.size(); ++k)
       columns[k].group.write_part<T>(columns[k].name, rows.first + first,
                                      std::span<const T>(values[k]).first(count));
+  }
+}
+
+// Every lane measurement's per-orbit columns, each at its path.
+void write_measured_columns(const h5::Group& root, const Ensemble& e, Rows rows) {
+  for (std::size_t c = 0; c < e.columns.size(); ++c) {
+    const auto [group, name] = dataset_at(root, e.column_specs[c].path, true);
+    write_rows<double>(group, name, e.columns[c].span().first(e.orbits), rows);
   }
 }
 
@@ -216,15 +226,22 @@ std::vector<double> ChaosTable::bounded(std::size_t k) const {
 DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
   DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
   for (std::size_t i = 0; i < e.orbits; ++i) {
-    const double drift = e.invariant_max_drift[k][i];
+    const double drift = invariant_drift(e, k)[i];
     if (drift == 0) {
       ++d.zero;
       continue;
     }
-    const double x = std::log10(relative_drift(e.invariant_initial[k][i], drift));
+    const double x = std::log10(relative_drift(invariant_initial(e, k)[i], drift));
     d.histogram.add(&x);
   }
   return d;
+}
+
+DatasetAt dataset_at(const h5::Group& root, const std::string& path, bool make) {
+  const std::size_t slash = path.rfind('/');
+  if (slash == std::string::npos) throw std::logic_error("dataset_at: " + path + " is in no group");
+  const std::string parent = path.substr(0, slash);
+  return {make ? root.group_at(parent) : root.open_group(parent), path.substr(slash + 1)};
 }
 
 std::string utc_now() {
@@ -434,18 +451,14 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   for (const auto& name : inv_names) groups.push_back(invariants.create_group(name));
   if (run.per_orbit) {
     std::vector<Column> finals;
-    for (std::size_t k = 0; k < inv_names.size(); ++k) {
-      write_rows<double>(groups[k], "initial", e.invariant_initial[k].span().first(n), rows);
-      finals.push_back({groups[k], "final"});
-    }
+    for (std::size_t k = 0; k < inv_names.size(); ++k) finals.push_back({groups[k], "final"});
     // On the run's own path, lanes at a time.
     write_columns(finals, rows, [&](std::size_t first, std::size_t count, auto& values) {
       std::vector<double*> out;
       for (auto& v : values) out.push_back(v.data());
       model.invariants_of_orbits(e, first, count, run.execution.isa, out);
     });
-    for (std::size_t k = 0; k < inv_names.size(); ++k)
-      write_rows<double>(groups[k], "max_abs_drift", e.invariant_max_drift[k].span().first(n), rows);
+    write_measured_columns(root, e, rows);
   }
   for (std::size_t k = 0; k < inv_names.size(); ++k) {
     DriftHistogram drift = drifts[k].get();
@@ -462,7 +475,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
       if (inv_names[k] == image.axes()[1].coordinate) iy = k;
     }
     for (std::size_t i = 0; i < n; ++i) {
-      const double v[2] = {e.invariant_initial[ix][i], e.invariant_initial[iy][i]};
+      const double v[2] = {invariant_initial(e, ix)[i], invariant_initial(e, iy)[i]};
       image.add(v);
     }
     write_histogram_over_ranks(invariants.create_group("image"), image, "counts");

@@ -9,7 +9,7 @@
 #include "core/ensemble.hpp"
 #include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
-#include "core/observers/invariant_image.hpp"
+#include "core/observers/invariants/invariant_image.hpp"
 #include "core/observers/observers.hpp"
 #include "core/run_plan.hpp"
 #include "ensembles/io/trajectories.hpp"
@@ -120,6 +120,14 @@ struct DriftHistogram {
   std::int64_t zero = 0;
 };
 DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
+
+// The dataset at `path` from `root`, in a group ("invariants/H/initial"): the group that holds it,
+// made where missing when `make`, and its name there.
+struct DatasetAt {
+  h5::Group group;
+  std::string name;
+};
+DatasetAt dataset_at(const h5::Group& root, const std::string& path, bool make = false);
 
 // The schema and the build that wrote the file: version, commit, compiler and flags.
 void write_build(const h5::Group& root);

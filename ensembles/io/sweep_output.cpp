@@ -1,4 +1,5 @@
 #include "ensembles/io/sweep_output.hpp"
+#include "core/observers/invariants/invariant_columns.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -26,8 +27,8 @@ double worst_drift(const Model& model, const Ensemble& e) {
   for (std::size_t i = 0; i < e.orbits; ++i) bounded[i] = e.escape_step[i] < 0;
   double worst = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t k = 0; k < model.invariant_names().size(); ++k) {
-    const DriftSummary drift(e.invariant_initial[k].span().first(e.orbits),
-                             e.invariant_max_drift[k].span().first(e.orbits), bounded);
+    const DriftSummary drift(invariant_initial(e, k).span().first(e.orbits),
+                             invariant_drift(e, k).span().first(e.orbits), bounded);
     if (drift.not_numbers()) return std::numeric_limits<double>::quiet_NaN();
     const double d = drift.quantile(1);
     if (!std::isnan(d)) worst = std::isnan(worst) ? d : std::max(worst, d);

@@ -47,7 +47,7 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
   // Rows by step first; reordered orbit by orbit at the end.
   std::vector<std::vector<std::size_t>> rows_of(t.orbits.size());
   RunPlan segment = plan;
-  segment.track_invariants = false;
+  segment.measure_orbits = false;
   for (long long n = e.step;;) {
     for (std::size_t j = 0; j < t.orbits.size(); ++j) {
       if (copy.escape_step[j] >= 0) continue;  // rows stop before the escape

@@ -1,5 +1,5 @@
 #pragma once
-// The trajectories' rows (core/observers/trajectory.hpp): recorded when the run starts, by
+// The trajectories' rows (core/observers/trajectory/trajectory.hpp): recorded when the run starts, by
 // stepping copies of those orbits on the scalar reference path, which every path reproduces bit
 // for bit; written under /trajectories/<name>/ (docs/hdf5-schema.md) and read from checkpoints.
 #include <cstdint>
@@ -9,7 +9,7 @@
 #include "core/ensemble.hpp"
 #include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
-#include "core/observers/trajectory.hpp"
+#include "core/observers/trajectory/trajectory.hpp"
 #include "core/run_plan.hpp"
 
 namespace qmaps {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <ostream>
 
+#include "core/observers/invariants/invariant_columns.hpp"
 #include "core/error.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/kinds/box.hpp"
@@ -95,8 +96,8 @@ int check_command(const CheckOptions& o, std::ostream& out) {
   out << "  invariant     median        90%        99%      worst\n";
   const auto& names = model->invariant_names();
   for (std::size_t k = 0; k < names.size(); ++k) {
-    const DriftSummary s(e.invariant_initial[k].span().first(e.orbits),
-                         e.invariant_max_drift[k].span().first(e.orbits), alive);
+    const DriftSummary s(invariant_initial(e, k).span().first(e.orbits),
+                         invariant_drift(e, k).span().first(e.orbits), alive);
     char line[160];
     std::snprintf(line, sizeof line, "  %-9s %10s %10s %10s %10s\n", names[k].c_str(),
                   g(s.quantile(0.5)).c_str(), g(s.quantile(0.9)).c_str(),
@@ -106,7 +107,7 @@ int check_command(const CheckOptions& o, std::ostream& out) {
 
   // Reversibility: reverse, the same steps back, reverse again; compare phase points.
   model->reverse(e);
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   model->advance(e, plan, x);
   model->reverse(e);
   double worst = 0;

@@ -14,6 +14,9 @@
 #include "ensembles/io/file_orbits.hpp"
 #include "ensembles/io/output.hpp"
 #include "ensembles/io/statistics.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
+#include "ensembles/program/run_setup.hpp"
 
 namespace qmaps {
 namespace {
@@ -43,6 +46,28 @@ std::size_t points_in(const h5::Group& s) {
   if (shape.size() != 1)
     throw Error(ExitCode::io, "HDF5: dataset " + s.path() + "/orbit is not one-dimensional");
   return static_cast<std::size_t>(shape[0]);
+}
+
+// The per-orbit columns of the optional lane measurements the run took (each whose table its
+// configuration has, core/observers/lane_observers.hpp), each as its least, median and largest
+// value over the orbits never escaped.
+void describe_measured(const h5::Group& root, std::size_t orbits,
+                       const std::vector<std::uint8_t>& alive, std::ostream& out) {
+  const Config config = Config::parse(root.attr_string("config_resolved"), "config_resolved");
+  const auto model = map_of(config, chaos_options_of(config));
+  const auto measured = measured_of(config, *model);
+  const auto always = model->lane_columns({}), taken = model->lane_columns(measured);
+  for (std::size_t m = 0; m < taken.size(); ++m)
+    for (std::size_t c = always[m].size(); c < taken[m].size(); ++c) {
+      const std::string& path = taken[m][c].path;
+      const auto [group, name] = dataset_at(root, path);
+      const auto values = group.read_doubles(name, orbits);
+      std::vector<double> kept;
+      for (std::size_t i = 0; i < orbits; ++i)
+        if (alive[i]) kept.push_back(values[i]);
+      out << "  " << path << ": least " << g(quantile(kept, 0)) << ", median "
+          << g(quantile(kept, 0.5)) << ", largest " << g(quantile(kept, 1)) << '\n';
+    }
 }
 
 // A sweep's file: its axes, then one row per point with its summary (docs/sweeps.md).
@@ -174,6 +199,7 @@ int describe(const std::string& path, std::ostream& out) {
           << " is not a number: no drift can be measured)";
     out << '\n';
   }
+  if (per_orbit && root.has_attr("config_resolved")) describe_measured(root, orbits, alive, out);
   if (invariants.has("image"))
     out << "invariant image: " << histogram_text(invariants.open_group("image"), "counts") << '\n';
   if (root.has("histograms")) {

@@ -107,14 +107,8 @@ std::vector<ShardFile> shard_set(const std::vector<std::string>& paths) {
 void check_memory(const Run& r, std::size_t orbits, std::size_t largest) {
   const double bytes = memory_of(r) + r.observers.bytes(r.x.threads) *
                                           static_cast<double>(largest) / static_cast<double>(orbits);
-  const MemoryLimit have = memory_limit();
-  if (bytes <= have.bytes) return;
-  char text[300];
-  std::snprintf(text, sizeof text,
-                "%zu orbits, with the largest shard's section points, need about %.3g GiB; %s is "
-                "%.3g GiB",
-                orbits, bytes / (1 << 30), have.what.c_str(), have.bytes / (1 << 30));
-  throw refused(text);
+  check_fits(bytes, "qmaps merge",
+             std::to_string(orbits) + " orbits, with the largest shard's section points,");
 }
 
 // The merged file is none of its shards, by name or by file.
@@ -160,7 +154,7 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   const auto initial = r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
   if (initial) create_phase(*initial, orbits);
 
-  Ensemble e = r.model->ensemble(orbits);
+  Ensemble e = r.model->ensemble(orbits, r.measured);
   // Each shard's trajectories (its orbits of each), and where each orbit's rows are.
   std::vector<std::vector<Trajectory>> parts;
   std::vector<std::map<std::size_t, std::pair<std::size_t, std::vector<std::size_t>>>> rows_of(

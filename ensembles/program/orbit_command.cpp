@@ -73,7 +73,7 @@ std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
   RunPlan plan;
   plan.total = o.steps;
   plan.escape_bound = o.escape_bound;
-  plan.track_invariants = false;
+  plan.measure_orbits = false;
   for (long long n = 0;;) {
     if (e.escape_step[0] >= 0)
       return "the orbit escaped at step " + std::to_string(e.escape_step[0]) + " (" +

@@ -301,7 +301,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
   h5::AtomicFile output(r.path);
   auto file = output.create_hdf5(r.deflate);
   return ending_every_rank_on_failure(output, [&] {
-    Ensemble e = r.model->ensemble(r.orbits);
+    Ensemble e = r.model->ensemble(r.orbits, r.measured);
     const Rows rows = r.shard ? Rows{} : Rows{r.first, r.orbits, r.total};
     reading([&] {
       read_ensemble(root, *r.model, e, rows);
@@ -381,7 +381,7 @@ int run_command(const RunOptions& options, std::ostream& log) {
 
   return ending_every_rank_on_failure(output, [&] {
     // The orbits start by parts; /initial is written as they do, and no full copy is kept.
-    Ensemble e = r.model->ensemble(r.orbits);
+    Ensemble e = r.model->ensemble(r.orbits, r.measured);
     const auto initial =
         r.per_orbit ? std::optional(file.root().create_group("initial")) : std::nullopt;
     const std::size_t rows = r.shard ? r.orbits : r.total;

@@ -32,34 +32,26 @@ ChaosReport chaos_report_of(const Config& config) {
 // Refuses, before allocating, a run that cannot fit in this machine's memory: its orbits, its
 // observers (Observers::bytes: the histograms in every thread, the sections' point slots) and its
 // threads (their stacks, which count against an address-space limit).
-void check_memory(const Config& config, const Model& model, std::size_t orbits,
-                  double for_observers, int threads) {
+void check_memory(const Config& config, const Model& model, std::span<const std::string> measured,
+                  std::size_t orbits, double for_observers, int threads) {
   const double padded = static_cast<double>((orbits + Ensemble::padding - 1) /
                                             Ensemble::padding * Ensemble::padding);
-  const double for_orbits = padded * bytes_per_orbit(model);
+  const double for_orbits = padded * bytes_per_orbit(model, measured);
   const double for_threads = threads * bytes_per_thread();
-  const MemoryLimit have = memory_limit();
-  if (for_orbits + for_observers + for_threads <= have.bytes) return;
+  char text[300];
+  std::string parts;  // how the bytes divide, where more than the orbits need them
+  if (for_observers > 0 || for_threads > 0) {
+    std::snprintf(text, sizeof text,
+                  " (the orbits %.3g GiB, their histograms (a copy per thread), section points "
+                  "and trajectories %.3g GiB, %d threads' stacks %.3g GiB)",
+                  for_orbits / (1 << 30), for_observers / (1 << 30), threads,
+                  for_threads / (1 << 30));
+    parts = text;
+  }
   // The key that sets the ensemble's size: a grid's points, else its orbits.
   const char* key = config.has("ensemble", "points") ? "points" : "orbits";
-  char text[300];
-  std::snprintf(text, sizeof text, ": %zu orbits need about %.3g GiB", orbits,
-                for_orbits / (1 << 30));
-  std::string message = config.where("ensemble", key) + text;
-  if (for_observers > 0) {
-    std::snprintf(text, sizeof text,
-                  ", and their histograms (a copy per thread), section points and trajectories "
-                  "%.3g GiB",
-                  for_observers / (1 << 30));
-    message += text;
-  }
-  if (for_threads > 0) {
-    std::snprintf(text, sizeof text, ", and %d threads' stacks %.3g GiB", threads,
-                  for_threads / (1 << 30));
-    message += text;
-  }
-  std::snprintf(text, sizeof text, "; %s is %.3g GiB", have.what.c_str(), have.bytes / (1 << 30));
-  throw usage_error(message + text);
+  check_fits(for_orbits + for_observers + for_threads, config.where("ensemble", key),
+             std::to_string(orbits) + " orbits", parts);
 }
 
 }  // namespace
@@ -80,9 +72,17 @@ std::optional<ChaosOptions> chaos_options_of(const Config& config) {
 // The memory a run holds per orbit: the state (with its chaos record), the escape record (step,
 // reason), the invariant tracking (initial value, max drift), the chaos indicators computed for
 // the output; the observers count theirs (Observers::bytes).
-double bytes_per_orbit(const Model& model) {
-  return static_cast<double>(8 * model.state_names().size() + 9 +
-                             16 * model.invariant_names().size() +
+std::vector<std::string> measured_of(const Config& config, const Model& model) {
+  std::vector<std::string> measured;
+  for (const auto key : model.lane_keys())
+    if (config.has_section(key)) measured.emplace_back(key);
+  return measured;
+}
+
+double bytes_per_orbit(const Model& model, std::span<const std::string> measured) {
+  std::size_t columns = 0;
+  for (const auto& specs : model.lane_columns(measured)) columns += specs.size();
+  return static_cast<double>(8 * (model.state_names().size() + columns) + 9 +
                              8 * model.indicator_names().size());
 }
 
@@ -108,7 +108,8 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
                         std::to_string(ranks::rank()) + " of " + std::to_string(ranks::count()) +
                         " none: run it on fewer ranks");
   }
-  check_memory(config, *r.model, r.orbits, 0, 0);  // before the observers are made
+  r.measured = measured_of(config, *r.model);
+  check_memory(config, *r.model, r.measured, r.orbits, 0, 0);  // before the observers are made
   try {
     r.start = parse_start(config.string_or("ensemble", "start", "taylor"));
   } catch (const Error& e) {
@@ -145,7 +146,7 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
   // The threads started: OpenMP's beside this one, and the writer's, one per invariant
   // (ensembles/io/output.cpp).
-  check_memory(config, *r.model, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories,
+  check_memory(config, *r.model, r.measured, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories,
                r.x.threads - 1 + static_cast<int>(r.model->invariant_names().size()));
   r.image = invariant_image_from_config(config, *r.model);
   r.chaos = chaos_report_of(config);
@@ -252,7 +253,7 @@ double memory_of(const Run& r, std::size_t orbits) {
   double slots_per_orbit = 0;  // SectionPoints::bytes() is the orbits times an orbit's share
   for (const auto& s : r.observers.sections)
     slots_per_orbit += static_cast<double>(s.points->bytes() / r.orbits);
-  double bytes = static_cast<double>(padded) * bytes_per_orbit(*r.model) +
+  double bytes = static_cast<double>(padded) * bytes_per_orbit(*r.model, r.measured) +
                  r.observers.bytes(r.x.threads) +
                  (static_cast<double>(orbits) - static_cast<double>(r.orbits)) * slots_per_orbit;
   for (const auto& t : r.trajectories) bytes += t.bytes(r.plan.total);
@@ -262,14 +263,32 @@ double memory_of(const Run& r, std::size_t orbits) {
 RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
                     const std::string& session_started, const std::string& now,
                     const std::string& session_command) {
-  return RunRecord{*r.model, e, r.plan, r.x, r.kind, r.seed, r.start, r.per_orbit,
-                   r.config_text, r.config_resolved, r.command_line, r.started, now,
-                   r.sessions + session_line(session_first, e.step, r.x, session_started, now,
-                                             session_command),
-                   &r.observers, r.image ? &*r.image : nullptr, r.description, r.rejected,
-                   r.chaos, &r.trajectories, r.shard ? r.shard->name() : "",
-                   static_cast<std::int64_t>(r.first), static_cast<std::int64_t>(r.total),
-                   r.shard ? Rows{} : Rows{r.first, r.orbits, r.total}};
+  return RunRecord{
+      .model = *r.model,
+      .ensemble = e,
+      .plan = r.plan,
+      .execution = r.x,
+      .ensemble_kind = r.kind,
+      .seed = r.seed,
+      .start = r.start,
+      .per_orbit = r.per_orbit,
+      .config_text = r.config_text,
+      .config_resolved = r.config_resolved,
+      .command_line = r.command_line,
+      .started = r.started,
+      .finished = now,
+      .sessions = r.sessions + session_line(session_first, e.step, r.x, session_started, now,
+                                            session_command),
+      .observers = &r.observers,
+      .image = r.image ? &*r.image : nullptr,
+      .ensemble_description = r.description,
+      .rejected = r.rejected,
+      .chaos = r.chaos,
+      .trajectories = &r.trajectories,
+      .shard = r.shard ? r.shard->name() : "",
+      .shard_first = static_cast<std::int64_t>(r.first),
+      .orbits_total = static_cast<std::int64_t>(r.total),
+      .rows = r.shard ? Rows{} : Rows{r.first, r.orbits, r.total}};
 }
 
 }  // namespace qmaps

@@ -25,8 +25,12 @@ namespace qmaps {
 // [chaos], if the run records chaos indicators (docs/chaos.md).
 std::optional<ChaosOptions> chaos_options_of(const Config& config);
 
+// The optional lane measurements (core/observers/lane_observers.hpp) the configuration turns on:
+// each whose table it has.
+std::vector<std::string> measured_of(const Config& config, const Model& model);
+
 // The memory a run holds per orbit besides its observers.
-double bytes_per_orbit(const Model& model);
+double bytes_per_orbit(const Model& model, std::span<const std::string> measured);
 
 // A run as its resolved configuration and the command line describe it (the ensemble aside).
 struct Run {
@@ -40,6 +44,7 @@ struct Run {
   long long checkpoint_every = 0;  // 0: only when interrupted
   bool per_orbit = true;
   int deflate = 0;  // [output] compression: the gzip level, 0 for none
+  std::vector<std::string> measured;  // the optional lane measurements it takes (measured_of)
   Observers observers;
   std::optional<InvariantImage> image;
   ChaosReport chaos;

@@ -34,15 +34,9 @@ void check_memory(const Config& config, const Run& first,
     bytes += memory_of(first, s.orbits());
     orbits += s.orbits();
   }
-  const MemoryLimit have = memory_limit();
-  if (bytes <= have.bytes) return;
-  char text[300];
-  std::snprintf(text, sizeof text,
-                ": %zu points, %zu orbits in all, need about %.3g GiB with their observers; %s "
-                "is %.3g GiB",
-                starts.size(), orbits, bytes / (1 << 30), have.what.c_str(),
-                have.bytes / (1 << 30));
-  throw usage_error(config.where("sweep[0]") + text);
+  check_fits(bytes, config.where("sweep[0]"),
+             std::to_string(starts.size()) + " points, " + std::to_string(orbits) +
+                 " orbits in all, with their observers,");
 }
 
 }  // namespace
@@ -96,7 +90,7 @@ int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& option
   std::size_t orbits = 0;
   for (std::size_t k = 0; k < points; ++k) {
     Run& r = runs[k];
-    ensembles.push_back(r.model->ensemble(r.orbits));
+    ensembles.push_back(r.model->ensemble(r.orbits, r.measured));
     Ensemble& e = ensembles.back();
     const auto initial =
         r.per_orbit ? std::optional(groups[k].create_group("initial")) : std::nullopt;

@@ -146,8 +146,9 @@ class Histogram:
                    group.attrs["overflow"], group.attrs["samples"])
 
 
-# The groups whose (N_o,) datasets are per-orbit data, one row per orbit.
-PER_ORBIT_GROUPS = ("initial", "final", "escape", "invariants", "chaos")
+# The groups whose rows are not orbits: the sections' points and the trajectories' rows. Every
+# other (N_o,) dataset, but a histogram's, is per-orbit data (a measurement's columns too).
+NOT_PER_ORBIT = ("sections", "trajectories")
 
 
 @dataclasses.dataclass
@@ -180,23 +181,26 @@ class Run(Group):
         return node.datasets.h5(name)
 
     def per_orbit(self):
-        """{column: array of shape (orbits,)}: every per-orbit dataset of /initial, /final (with
-        its raw state), /escape, /invariants and /chaos, named by its path with "." for "/"
-        ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises FileError when
-        the file has none (a run written with per_orbit = false)."""
+        """{column: array of shape (orbits,)}: every per-orbit dataset (of /initial, /final with
+        its raw state, /escape, /invariants, /chaos and every measurement's columns: all but the
+        sections' points, the trajectories' rows and the histograms), named by its path with "."
+        for "/" ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises FileError
+        when the file has none (a run written with per_orbit = false)."""
         orbits = self.attrs["orbits"]
         columns = {}
 
         def visit(group, prefix):
+            if "samples" in group.attrs:  # a histogram
+                return
             for name in group.datasets:
                 if group.datasets.h5(name).shape == (orbits,):
                     columns[prefix + name] = group.datasets[name]
             for name, child in group.groups.items():
                 visit(child, prefix + name + ".")
 
-        for name in PER_ORBIT_GROUPS:
-            if name in self.groups:
-                visit(self.groups[name], name + ".")
+        for name, group in self.groups.items():
+            if name not in NOT_PER_ORBIT:
+                visit(group, name + ".")
         if not columns:
             raise FileError(f"{self.file}: no per-orbit datasets (the run was written with "
                                  "[output] per_orbit = false)")

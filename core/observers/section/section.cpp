@@ -1,4 +1,4 @@
-#include "core/observers/section.hpp"
+#include "core/observers/section/section.hpp"
 
 #include <algorithm>
 

@@ -11,7 +11,7 @@
 #include "core/map_concept.hpp"
 #include "core/observers/histogram_lanes.hpp"
 #include "core/observers/node_values.hpp"
-#include "core/observers/section.hpp"
+#include "core/observers/section/section.hpp"
 
 namespace qmaps {
 

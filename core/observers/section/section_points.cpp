@@ -1,4 +1,4 @@
-#include "core/observers/section_points.hpp"
+#include "core/observers/section/section_points.hpp"
 
 #include <cstdlib>
 #include <new>

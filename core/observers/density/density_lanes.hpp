@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/observers/density.hpp"
+#include "core/observers/density/density.hpp"
 #include "core/observers/histogram_lanes.hpp"
 #include "core/observers/node_values.hpp"
 

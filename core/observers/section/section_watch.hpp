@@ -22,7 +22,7 @@
 
 #include "core/aligned_array.hpp"
 #include "core/observers/observers.hpp"
-#include "core/observers/section_lanes.hpp"
+#include "core/observers/section/section_lanes.hpp"
 
 namespace qmaps {
 

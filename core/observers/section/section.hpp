@@ -20,7 +20,7 @@
 
 #include "core/observers/coordinate.hpp"
 #include "core/observers/histogram.hpp"
-#include "core/observers/section_points.hpp"
+#include "core/observers/section/section_points.hpp"
 
 namespace qmaps {
 

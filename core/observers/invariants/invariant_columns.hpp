@@ -1,0 +1,21 @@
+#pragma once
+// Invariant k's columns in an ensemble (invariant_track.hpp): its values at the orbits' start and
+// their max |I_n − I_0|.
+#include <cstddef>
+
+#include "core/ensemble.hpp"
+#include "core/observers/lane_observers.hpp"
+
+namespace qmaps {
+
+inline std::size_t invariant_count(const Ensemble& e) {
+  return e.columns_of(lane_index<InvariantTrack>).size() / 2;
+}
+inline const AlignedArray<double>& invariant_initial(const Ensemble& e, std::size_t k) {
+  return e.columns_of(lane_index<InvariantTrack>)[2 * k];
+}
+inline const AlignedArray<double>& invariant_drift(const Ensemble& e, std::size_t k) {
+  return e.columns_of(lane_index<InvariantTrack>)[2 * k + 1];
+}
+
+}  // namespace qmaps

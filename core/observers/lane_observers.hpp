@@ -1,0 +1,132 @@
+#pragma once
+// The lane measurements: what a block measures of every orbit at its sampling steps, in
+// registers at every width (V = double: the reference path), into named per-orbit columns of the
+// ensemble (core/ensemble.hpp). Each is a template over (Map, V) in its own folder, with
+//   static columns(coeffs, asked) -> std::vector<ColumnSpec>
+//       its columns for this map, none where the run did not ask for it (it is then off);
+//       `asked` names the optional measurements the run's configuration turns on
+//   static constexpr std::string_view key                   optional: the configuration table
+//       ([key]) that turns it on and names it in `asked`; without one it is always on
+//   static start(coeffs, State<double> s, columns, orbit)  its values for an orbit starting at s
+//   load(columns, orbit)                                    the block's lanes from `orbit`
+//   sample(coeffs, State<V> x, alive)                       at a sampling step
+//   store(columns, orbit) const
+// and one line in the list below. The block, the model's start, the run's file, the checkpoint
+// and the merge iterate the list, and none of them names a measurement.
+#include <cstddef>
+#include <span>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "core/ensemble.hpp"
+#include "core/observers/invariants/invariant_track.hpp"
+
+namespace qmaps {
+
+template <template <class, class> class... M>
+struct LaneList {};
+
+// The list.
+using LaneMeasurements = LaneList<InvariantTrack>;
+
+namespace detail {
+
+template <class Map, class V, class List>
+struct LaneTuple;
+template <class Map, class V, template <class, class> class... M>
+struct LaneTuple<Map, V, LaneList<M...>> {
+  using type = std::tuple<M<Map, V>...>;
+};
+
+template <template <class, class> class Wanted, template <class, class> class... M>
+constexpr std::size_t index_in(LaneList<M...>) {
+  constexpr bool same[] = {std::is_same_v<LaneList<Wanted>, LaneList<M>>...};
+  for (std::size_t i = 0; i < sizeof...(M); ++i)
+    if (same[i]) return i;
+  return sizeof...(M);
+}
+
+}  // namespace detail
+
+// The place of measurement M in the list: its columns are e.columns_of(lane_index<M>).
+template <template <class, class> class M>
+inline constexpr std::size_t lane_index = detail::index_in<M>(LaneMeasurements{});
+static_assert(lane_index<InvariantTrack> == 0);
+
+// Every lane measurement of one V (a block's chain, or one orbit), each one on where the
+// ensemble holds its columns.
+template <class Map, class V>
+class LaneObservers {
+  using Tuple = typename detail::LaneTuple<Map, V, LaneMeasurements>::type;
+  static constexpr std::size_t count = std::tuple_size_v<Tuple>;
+
+ public:
+  // The columns of every measurement for this map, in list order.
+  static std::vector<std::vector<ColumnSpec>> columns(const typename Map::Coeffs& c,
+                                                      std::span<const std::string> asked) {
+    std::vector<std::vector<ColumnSpec>> all;
+    each_type([&]<class M>(std::size_t) { all.push_back(M::columns(c, asked)); });
+    return all;
+  }
+  // The keys of the optional measurements.
+  static std::vector<std::string_view> keys() {
+    std::vector<std::string_view> all;
+    each_type([&]<class M>(std::size_t) {
+      if constexpr (requires { M::key; }) all.push_back(M::key);
+    });
+    return all;
+  }
+  static void start(const typename Map::Coeffs& c, const typename Map::template State<double>& s,
+                    Ensemble& e, std::size_t orbit) {
+    each_type([&]<class M>(std::size_t m) {
+      if (!e.columns_of(m).empty()) M::start(c, s, e.columns_of(m), orbit);
+    });
+  }
+
+  void load(const Ensemble& e, std::size_t orbit) {
+    each([&](auto& m, std::size_t i) {
+      on_[i] = !e.columns_of(i).empty();
+      if (on_[i]) m.load(e.columns_of(i), orbit);
+    });
+  }
+  void sample(const typename Map::Coeffs& c, const typename Map::template State<V>& x,
+              ops::mask_t<V> alive) {
+    each([&](auto& m, std::size_t i) {
+      if (on_[i]) m.sample(c, x, alive);
+    });
+  }
+  void store(Ensemble& e, std::size_t orbit) const {
+    each([&](const auto& m, std::size_t i) {
+      if (on_[i]) m.store(e.columns_of(i), orbit);
+    });
+  }
+
+ private:
+  template <class F>
+  static void each_type(F f) {
+    [&]<std::size_t... i>(std::index_sequence<i...>) {
+      (f.template operator()<std::tuple_element_t<i, Tuple>>(i), ...);
+    }(std::make_index_sequence<count>{});
+  }
+  template <class F>
+  void each(F f) {
+    [&]<std::size_t... i>(std::index_sequence<i...>) {
+      (f(std::get<i>(measures_), i), ...);
+    }(std::make_index_sequence<count>{});
+  }
+  template <class F>
+  void each(F f) const {
+    [&]<std::size_t... i>(std::index_sequence<i...>) {
+      (f(std::get<i>(measures_), i), ...);
+    }(std::make_index_sequence<count>{});
+  }
+
+  Tuple measures_;
+  bool on_[count] = {};
+};
+
+}  // namespace qmaps
