@@ -23,15 +23,6 @@ Ensemble::Ensemble(std::size_t n, std::size_t state_size,
   first_column_.push_back(column_specs.size());
 }
 
-std::span<AlignedArray<double>> Ensemble::columns_of(std::size_t m) {
-  if (m + 1 >= first_column_.size()) return {};
-  return std::span(columns).subspan(first_column_[m], first_column_[m + 1] - first_column_[m]);
-}
-
-std::span<const AlignedArray<double>> Ensemble::columns_of(std::size_t m) const {
-  return const_cast<Ensemble&>(*this).columns_of(m);
-}
-
 const AlignedArray<double>& Ensemble::column(std::string_view path) const {
   for (std::size_t c = 0; c < column_specs.size(); ++c)
     if (column_specs[c].path == path) return columns[c];

@@ -42,9 +42,15 @@ struct Ensemble {
   std::vector<AlignedArray<double>> columns;       // [column][orbit], as column_specs
   long long step = 0;                              // the step the state is at
 
-  // The columns of lane measurement m (its place in the list); empty when it is off.
-  std::span<AlignedArray<double>> columns_of(std::size_t m);
-  std::span<const AlignedArray<double>> columns_of(std::size_t m) const;
+  // The columns of lane measurement m (its place in the list); empty when it is off. Inline:
+  // each block's chains ask at its start and end.
+  std::span<AlignedArray<double>> columns_of(std::size_t m) {
+    if (m + 1 >= first_column_.size()) return {};
+    return {columns.data() + first_column_[m], first_column_[m + 1] - first_column_[m]};
+  }
+  std::span<const AlignedArray<double>> columns_of(std::size_t m) const {
+    return const_cast<Ensemble&>(*this).columns_of(m);
+  }
   // The column whose dataset is `path`; a logic error when there is none.
   const AlignedArray<double>& column(std::string_view path) const;
 

@@ -1,5 +1,5 @@
-"""A fuzz target for the Python package's argument checking: qmaps.run, qmaps.orbit and
-qmaps.load called with arguments drawn from hostile values (wrong types, NaN and infinities,
+"""A fuzz target for the Python package's argument checking: qmaps.run, qmaps.spec, qmaps.orbit
+and qmaps.load called with arguments drawn from hostile values (wrong types, NaN and infinities,
 huge and negative integers, numpy scalars and arrays, strings with NUL, nested containers, paths
 of folders, FIFOs and devices). Every call must return or raise qmaps.ConfigError or
 qmaps.FileError, within a bound of time: any other exception, a crash or a hang is a finding,
@@ -51,6 +51,9 @@ def calls(rng, folder):
             tables.setdefault(rng.choice(["map", "ensemble", "run", "output", "chaos"]), {})[
                 rng.choice(["h", "A", "orbits", "steps", "kind", "seed", "file", "x"])] = v()
         config = rng.choice([PRESET, PRESET, v(), {"map": v()}])
+        if key != "progress" and rng.random() < 0.5:  # the spec, read, then run
+            return (f"qmaps.spec({config!r}, **{kwargs!r}).run()",
+                    lambda: qmaps.spec(config, **kwargs).run().close())
         return f"qmaps.run({config!r}, **{kwargs!r})", lambda: qmaps.run(config, **kwargs).close()
     if kind == 1:
         args = [rng.choice([v(), "suris"]), rng.choice([v(), {"h": v()}, None]),

@@ -1,6 +1,8 @@
 // qmaps._engine: the commands of the qmaps program as Python functions, in process. The package
 // (python/qmaps/__init__.py) wraps them; docs/python.md documents both.
-//   run(...)    qmaps run: the same configuration checks, the same runner, the same file
+//   read_spec(...)   qmaps run's spec: the configuration read once and checked, nothing run
+//   describe(spec)   what it runs: map, parameters, orbits, steps, sweep points, measurements
+//   run(spec, ...)   its session: the same runner and the same file as qmaps run
 //   orbit(...)  qmaps orbit's table as a (rows, columns) float64 array
 //   maps()      qmaps list's catalogue
 // qmaps::Error becomes the package's ConfigError (bad configuration or parameters), FileError
@@ -21,6 +23,7 @@
 #include "core/version.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
+#include "ensembles/program/run_spec.hpp"
 #include "kernels/catalogue.hpp"
 
 namespace py = pybind11;
@@ -57,12 +60,20 @@ std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
   return out;
 }
 
-// qmaps run, writing to `write_to`; returns the log it wrote (the summary lines), or raises.
-std::string run(const std::string& config_path, const std::string& config_text,
-                const std::string& config_source, const std::vector<std::string>& sets,
-                const std::string& write_to, int threads, const std::string& simd,
-                const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
-                const py::object& progress, const std::string& command_line) {
+// A run as qmaps::read_spec reads it, with the session's options it was read under.
+struct Spec {
+  qmaps::RunSpec spec;
+  qmaps::RunOptions options;
+};
+
+// The run a configuration describes, read and checked (every key, before anything runs), to be
+// written to `write_to`.
+std::shared_ptr<Spec> read_spec(
+    const std::string& config_path, const std::string& config_text,
+    const std::string& config_source, const std::vector<std::string>& sets,
+    const std::string& write_to, int threads, const std::string& simd,
+    const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
+    const std::string& command_line) {
   qmaps::RunOptions o;
   o.config_path = config_path;
   o.config_text = config_text;
@@ -76,6 +87,14 @@ std::string run(const std::string& config_path, const std::string& config_text,
   o.command_line = command_line;
   o.checkpoint_on_interrupt = false;
   if (points) o.points = points_of(*points);
+  const qmaps::InterruptGuard interrupt;  // a signal stops a long draw (a shell's)
+  const py::gil_scoped_release released;
+  return std::make_shared<Spec>(Spec{qmaps::read_spec(o), o});
+}
+
+// Runs the spec (its session); returns the log it wrote (the summary lines), or raises.
+std::string run(Spec& s, const py::object& progress) {
+  qmaps::RunOptions o = s.options;
   if (!progress.is_none())
     o.on_segment = [&progress](long long step, long long total) {
       const py::gil_scoped_acquire gil;
@@ -88,7 +107,7 @@ std::string run(const std::string& config_path, const std::string& config_text,
   const qmaps::InterruptGuard interrupt;
   {
     const py::gil_scoped_release released;  // other Python threads run while this one steps
-    code = qmaps::run_command(o, log);
+    code = qmaps::run_spec(s.spec, o, interrupt, log);
   }
   std::string message = log.str();
   while (!message.empty() && message.back() == '\n') message.pop_back();
@@ -100,6 +119,27 @@ std::string run(const std::string& config_path, const std::string& config_text,
     throw py::error_already_set();
   }
   return log.str();
+}
+
+// What a spec runs: {map, params, orbits, steps, stride, points, measured}.
+py::dict describe(const Spec& s) {
+  const qmaps::Run& r = s.spec.points.front().run;
+  py::dict params;
+  const auto specs = r.model->param_specs();
+  const auto values = r.model->param_values();
+  for (std::size_t k = 0; k < specs.size(); ++k) params[py::str(std::string(specs[k].name))] = values[k];
+  std::size_t orbits = 0;
+  for (const auto& p : s.spec.points) orbits += p.run.total;
+  py::dict d;
+  d["map"] = std::string(r.model->name());
+  d["params"] = params;
+  d["orbits"] = orbits;
+  d["steps"] = r.plan.total;
+  d["stride"] = r.plan.stride;
+  d["points"] = s.spec.points.size();
+  d["invariants"] = r.model->invariant_names();
+  d["measured"] = r.measured;
+  return d;
 }
 
 // qmaps orbit's rows: (columns, values of shape (rows, columns), why the rows stopped early).
@@ -179,9 +219,13 @@ PYBIND11_MODULE(_engine, m) {
       PyErr_SetString(error_class(e.code()).ptr(), e.what());
     }
   });
-  m.def("run", &run, py::arg("config_path"), py::arg("config_text"), py::arg("config_source"),
-        py::arg("sets"), py::arg("write_to"), py::arg("threads"), py::arg("simd"),
-        py::arg("points"), py::arg("progress"), py::arg("command_line"));
+  py::class_<Spec, std::shared_ptr<Spec>>(m, "Spec",
+                                          "A run read and checked (qmaps::read_spec); it runs once.");
+  m.def("read_spec", &read_spec, py::arg("config_path"), py::arg("config_text"),
+        py::arg("config_source"), py::arg("sets"), py::arg("write_to"), py::arg("threads"),
+        py::arg("simd"), py::arg("points"), py::arg("command_line"));
+  m.def("describe", &describe, py::arg("spec"));
+  m.def("run", &run, py::arg("spec"), py::arg("progress"));
   m.def("orbit", &orbit, py::arg("map"), py::arg("sets"), py::arg("ic"), py::arg("steps"),
         py::arg("every"), py::arg("start"), py::arg("escape_bound"), py::arg("chaos"),
         py::arg("energy"));

@@ -324,6 +324,32 @@ def test_a_sweep_runs_from_python(tmp_path):
         assert run["sweep/chaotic_fraction"].shape == (2,)
 
 
+def test_a_spec_is_read_and_checked_before_it_runs_and_runs_once(configs, tmp_path):
+    """qmaps.spec reads every key once: a bad one is refused with its line before anything runs
+    (no folder left), the spec says what it runs, and its run is qmaps.run's, byte for byte."""
+    spec = qmaps.spec(configs["suris"], tmpdir=tmp_path, **SETS)
+    assert (spec.map, spec.orbits, spec.steps, spec.points) == ("suris", 501, 120, 1)
+    assert spec.params["h"] > 0 and spec.invariants == ["H", "I1", "I2"]
+    assert spec.measured == [] and "501 orbits x 120 steps" in repr(spec)
+    with spec.run() as run:
+        run.save(tmp_path / "spec.h5")
+    with pytest.raises(qmaps.ConfigError, match="a spec runs once"):
+        spec.run()
+    with qmaps.run(configs["suris"], **SETS) as run:
+        run.save(tmp_path / "run.h5")
+    assert_same_datasets(tmp_path / "spec.h5", tmp_path / "run.h5")
+    before = sorted(p.name for p in tmp_path.iterdir())
+    with pytest.raises(qmaps.ConfigError, match="stepz: unknown key"):
+        qmaps.spec(configs["suris"], tmpdir=tmp_path, run={"stepz": 3})
+    del spec
+    gc.collect()
+    assert sorted(p.name for p in tmp_path.iterdir()) == before
+    sweep = tomllib.loads((ROOT / "ensembles/presets/scan-a-eq-b.toml").read_text())
+    sweep["sweep"] = [{"parameter": "delta", "values": [0.0, 0.5, 1.0]}]
+    sweep["ensemble"]["orbits"] = 50
+    assert qmaps.spec(sweep).points == 3
+
+
 def test_pip_installs_into_a_venv(tmp_path):
     """pip install --no-build-isolation . into a venv that sees Debian's numpy and h5py, from
     this build folder (nothing is recompiled); the installed package runs."""

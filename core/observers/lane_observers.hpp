@@ -35,11 +35,17 @@ using LaneMeasurements = LaneList<InvariantTrack>;
 
 namespace detail {
 
+// The measurements of one V, each a base: default-initialized, their registers' arrays are not
+// zeroed (a std::tuple's would be, for every chain of every block).
+template <class... M>
+struct Each : M... {};
+
 template <class Map, class V, class List>
 struct LaneTuple;
 template <class Map, class V, template <class, class> class... M>
 struct LaneTuple<Map, V, LaneList<M...>> {
   using type = std::tuple<M<Map, V>...>;
+  using each = Each<M<Map, V>...>;
 };
 
 template <template <class, class> class Wanted, template <class, class> class... M>
@@ -62,6 +68,7 @@ static_assert(lane_index<InvariantTrack> == 0);
 template <class Map, class V>
 class LaneObservers {
   using Tuple = typename detail::LaneTuple<Map, V, LaneMeasurements>::type;
+  using All = typename detail::LaneTuple<Map, V, LaneMeasurements>::each;
   static constexpr std::size_t count = std::tuple_size_v<Tuple>;
 
  public:
@@ -115,17 +122,17 @@ class LaneObservers {
   template <class F>
   void each(F f) {
     [&]<std::size_t... i>(std::index_sequence<i...>) {
-      (f(std::get<i>(measures_), i), ...);
+      (f(static_cast<std::tuple_element_t<i, Tuple>&>(measures_), i), ...);
     }(std::make_index_sequence<count>{});
   }
   template <class F>
   void each(F f) const {
     [&]<std::size_t... i>(std::index_sequence<i...>) {
-      (f(std::get<i>(measures_), i), ...);
+      (f(static_cast<const std::tuple_element_t<i, Tuple>&>(measures_), i), ...);
     }(std::make_index_sequence<count>{});
   }
 
-  Tuple measures_;
+  All measures_;
   bool on_[count] = {};
 };
 

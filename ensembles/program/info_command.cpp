@@ -56,6 +56,8 @@ void describe_measured(const h5::Group& root, std::size_t orbits,
   const Config config = Config::parse(root.attr_string("config_resolved"), "config_resolved");
   const auto model = map_of(config, chaos_options_of(config));
   const auto measured = measured_of(config, *model);
+  if (measured.empty()) return;
+  out << "measured:   per-orbit columns over the orbits never escaped\n";
   const auto always = model->lane_columns({}), taken = model->lane_columns(measured);
   for (std::size_t m = 0; m < taken.size(); ++m)
     for (std::size_t c = always[m].size(); c < taken[m].size(); ++c) {

@@ -20,29 +20,13 @@
 #include "ensembles/program/interrupt.hpp"
 #include "ensembles/program/progress.hpp"
 #include "ensembles/program/segments.hpp"
+#include "ensembles/program/every_rank.hpp"
 #include "ensembles/program/run_setup.hpp"
+#include "ensembles/program/run_spec.hpp"
 #include "ensembles/program/sweep_run.hpp"
 
 namespace qmaps {
 namespace {
-
-// Over several ranks (qmaps-mpi), a step that may fail on some ranks alone (a configuration, a
-// path; nothing collective inside) fails on every rank with the lowest failing rank's error, so
-// that all end alike, before anything is written. Alone, the step itself.
-template <class Step>
-void on_every_rank(Step step) {
-  if (ranks::count() == 1) return step();
-  ranks::Failure mine;
-  try {
-    step();
-  } catch (const Error& e) {
-    mine = {static_cast<int>(e.code()), e.what()};
-  } catch (const std::exception& e) {
-    mine = {static_cast<int>(ExitCode::failure), e.what()};
-  }
-  const ranks::Failure first = ranks::first_failure(mine);
-  if (first.code != 0) throw Error(static_cast<ExitCode>(first.code), first.message);
-}
 
 // Every rank runs the same configuration into the same file.
 void check_same_run(const Run& r) {
@@ -327,47 +311,17 @@ int run_command(const RunOptions& options, std::ostream& log) {
   // A signal from here on is answered after the first segment: the run stops with a checkpoint.
   const InterruptGuard interrupt;
   if (!options.resume.empty()) return resume_command(options, interrupt, log);
-  if (options.config_path.empty() && options.config_source.empty())
-    throw usage_error("qmaps run needs a config file, or --resume <output>.ckpt");
-  const std::string started = ranks::from_root(utc_now());
+  RunSpec spec = read_spec(options);
+  return run_spec(spec, options, interrupt, log);
+}
 
-  std::optional<Config> config;
-  std::optional<InitialConditions> initial_conditions;
-  std::optional<Run> run;
-  std::unique_ptr<Model> model;
-  std::optional<Sweep> sweep;
-  on_every_rank([&] {
-    config = options.config_path.empty() ? Config::parse(options.config_text, options.config_source)
-                                         : Config::load(options.config_path);
-    for (const auto& s : options.sets) config->set(s);
-    // A shard's --out names its own file: the configuration keeps the whole run's output, which
-    // every shard of the run must share.
-    if (!options.out.empty() && options.shard.empty()) config->set("output.file=" + options.out);
-    if (!options.shard.empty() && ranks::count() > 1)
-      throw usage_error("--shard splits a run into processes of their own; under mpirun the "
-                        "ranks split it");
-    model = map_of(*config, chaos_options_of(*config));
-    sweep = Sweep::from_config(*config, *model);
-    if (sweep) {
-      if (!options.shard.empty()) throw usage_error("--shard splits a run's orbits, not a sweep's points");
-      if (ranks::count() > 1)
-        throw usage_error("a sweep runs in one process: run it with qmaps, not under mpirun");
-      return;
-    }
-    initial_conditions.emplace(options.points ? InitialConditions::of_points(*config, options.points)
-                                              : InitialConditions::from_config(*config, *model, stop_on_signal));
-    run.emplace(run_of(*config, std::move(model), initial_conditions->orbits(), options));
-    config->reject_unknown();
-    if (ranks::count() > 1) h5::AtomicFile::check_writable(run->path);
-  });
-  if (sweep) return run_sweep(*config, *sweep, options, started, interrupt, log);
-  Run& r = *run;
-  r.kind = initial_conditions->kind();
-  r.rejects_points = initial_conditions->generator().rejects_points();
-  r.description = initial_conditions->description();
-  r.seed = initial_conditions->seed();
-  r.command_line = options.command_line;
-  r.started = started;
+int run_spec(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+             std::ostream& log) {
+  if (spec.ran) throw usage_error("a run's spec runs once: read it again to run it again");
+  spec.ran = true;
+  if (spec.sweep) return run_sweep(spec, options, interrupt, log);
+  const InitialConditions* initial_conditions = &spec.points.front().initial;
+  Run& r = spec.points.front().run;
   if (ranks::count() > 1) on_every_rank([&] { check_same_run(r); });
 
   std::optional<OutputLock> lock;  // first: a second run to this output is refused

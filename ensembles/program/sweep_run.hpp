@@ -1,6 +1,6 @@
 #pragma once
 // qmaps run of a configuration with [[sweep]] (docs/sweeps.md): every point's run is set up and
-// checked before any runs (a map that degenerates at a point is refused then), all points step
+// checked before any runs (run_spec.hpp: a map that degenerates at a point is refused then), all points step
 // together (core/runner.hpp), and one file holds /sweep with each point's run.
 #include <iosfwd>
 #include <string>
@@ -9,10 +9,12 @@
 #include "ensembles/config/sweep_config.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
+#include "ensembles/program/run_spec.hpp"
 
 namespace qmaps {
 
-int run_sweep(const Config& config, const Sweep& sweep, const RunOptions& options,
-              const std::string& started, const InterruptGuard& interrupt, std::ostream& log);
+// The sweep of `spec` (read_spec: every point's run set up and checked).
+int run_sweep(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+              std::ostream& log);
 
 }  // namespace qmaps

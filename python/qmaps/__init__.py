@@ -12,9 +12,9 @@ Hamiltonian, in process (docs/python.md).
 
 qmaps.plot draws a file's pictures (the qmaps-plot program).
 """
-from .engine import maps, orbit, run
+from .engine import Spec, maps, orbit, run, spec
 from .errors import ConfigError, Error, FileError, UnsupportedError
 from .runfile import Group, Histogram, Run, load
 
-__all__ = ["run", "orbit", "maps", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
+__all__ = ["run", "spec", "Spec", "orbit", "maps", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
            "FileError", "UnsupportedError"]

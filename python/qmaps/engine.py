@@ -167,26 +167,70 @@ def _progress_callback(progress):
     return show, bar
 
 
-def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(), tmpdir=None,
-        **tables):
-    """Runs a configuration as `qmaps run` does and returns the run, opened lazily (a
-    qmaps.Run: per-orbit arrays, histograms, sections and indicators as numpy arrays, the
-    provenance in .attrs, .save(path) to keep the file).
+class Spec:
+    """A run read and checked, not yet run (qmaps.spec): every key of its configuration read once,
+    an unknown one refused with its line, the memory it needs checked. Its fields say what it
+    runs; run() runs it, once.
+
+    map, params      the map and its parameters, resolved
+    orbits, steps    its orbits (all the sweep's points') and steps; stride its sampling
+    points           a sweep's points (1 for a run)
+    invariants       the invariants it tracks; measured the optional measurements it takes"""
+
+    def __init__(self, engine, handle, folder, label):
+        self._engine, self._handle, self._folder, self._label = engine, handle, folder, label
+        for key, value in engine.describe(handle).items():
+            setattr(self, key, value)
+
+    def __repr__(self):
+        return (f"qmaps.Spec({self.map}, {self.orbits} orbits x {self.steps} steps"
+                + (f", {self.points} points" if self.points > 1 else "") + ")")
+
+    def run(self, *, progress=None):
+        """Runs it as `qmaps run` does and returns the run, opened lazily (a qmaps.Run: per-orbit
+        arrays, histograms, sections and indicators as numpy arrays, the provenance in .attrs,
+        .save(path) to keep the file). A spec runs once.
+
+        progress a callable(step, total) called after each segment, or True for a bar (tqdm when
+                 installed)
+
+        Raises FileError, and KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept).
+        The GIL is released while the orbits step."""
+        if self._folder is None:
+            raise ConfigError(f"{self!r} has run: a spec runs once (read it again with qmaps.spec)")
+        folder, self._folder = self._folder, None
+        callback, bar = _progress_callback(progress)
+        try:
+            log = self._engine.run(self._handle, callback)
+            loaded = runfile.load(os.path.join(folder, "run.h5"))
+        except BaseException:
+            shutil.rmtree(folder, ignore_errors=True)
+            raise
+        finally:
+            if bar is not None:
+                bar.close()
+        loaded.owned, loaded.log = folder, log
+        return loaded
+
+    def __del__(self):
+        if getattr(self, "_folder", None) is not None:
+            shutil.rmtree(self._folder, ignore_errors=True)
+
+
+def spec(config, *, initial=None, threads=0, simd="auto", sets=(), tmpdir=None, **tables):
+    """The run a configuration describes, read and checked, not run: a qmaps.Spec, whose fields
+    say what it runs and whose run() runs it.
 
     config   a dict of tables, TOML text or the path of a TOML file
     initial  the starting points instead of [ensemble]: a dict or structured array with q1, q2,
              p1, p2, four arrays, or an array of shape (orbits, 4)
     threads, simd
              as --threads and --simd (0 and "auto": every core, the best ISA)
-    progress a callable(step, total) called after each segment, or True for a bar (tqdm when
-             installed)
     sets     "section.key=value" overrides, as --set
     **tables keyword overrides by table: run={"steps": 100}, ensemble={"orbits": 1000}
     tmpdir   where the run's file is written until close() (default: the system's)
 
-    Raises ConfigError (the key and its line), FileError, UnsupportedError, and
-    KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept). The GIL is released while
-    the orbits step."""
+    Raises ConfigError (the key and its line), FileError, UnsupportedError."""
     engine = _the_engine()
     path, text, source = _config_source(config)
     if isinstance(sets, (str, bytes)) or not isinstance(sets, collections.abc.Iterable):
@@ -209,20 +253,38 @@ def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(),
                        "an integer >= 1, as --threads (or 0, the default: every core)")
     points = None if initial is None else _points(initial)
     folder = _run_folder(tmpdir)
-    callback, bar = _progress_callback(progress)
-    file = os.path.join(folder, "run.h5")
+    label = f"qmaps.run({path or source})"
     try:
-        log = engine.run(path, text, source, overrides, file, threads, simd, points, callback,
-                         f"qmaps.run({path or source})")
-        loaded = runfile.load(file)
+        handle = engine.read_spec(path, text, source, overrides, os.path.join(folder, "run.h5"),
+                                  threads, simd, points, label)
     except BaseException:
         shutil.rmtree(folder, ignore_errors=True)
         raise
-    finally:
-        if bar is not None:
-            bar.close()
-    loaded.owned, loaded.log = folder, log
-    return loaded
+    return Spec(engine, handle, folder, label)
+
+
+def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(), tmpdir=None,
+        **tables):
+    """Runs a configuration as `qmaps run` does and returns the run, opened lazily (a
+    qmaps.Run: per-orbit arrays, histograms, sections and indicators as numpy arrays, the
+    provenance in .attrs, .save(path) to keep the file): qmaps.spec(...).run(progress=...).
+
+    config   a dict of tables, TOML text or the path of a TOML file
+    initial  the starting points instead of [ensemble]: a dict or structured array with q1, q2,
+             p1, p2, four arrays, or an array of shape (orbits, 4)
+    threads, simd
+             as --threads and --simd (0 and "auto": every core, the best ISA)
+    progress a callable(step, total) called after each segment, or True for a bar (tqdm when
+             installed)
+    sets     "section.key=value" overrides, as --set
+    **tables keyword overrides by table: run={"steps": 100}, ensemble={"orbits": 1000}
+    tmpdir   where the run's file is written until close() (default: the system's)
+
+    Raises ConfigError (the key and its line), FileError, UnsupportedError, and
+    KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept). The GIL is released while
+    the orbits step."""
+    return spec(config, initial=initial, threads=threads, simd=simd, sets=sets, tmpdir=tmpdir,
+                **tables).run(progress=progress)
 
 
 def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, start="taylor",

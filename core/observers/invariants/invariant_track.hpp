@@ -29,7 +29,7 @@ struct InvariantTrack {
   }
   static void start(const typename Map::Coeffs& c, const typename Map::template State<double>& s,
                     Columns columns, std::size_t orbit) {
-    double values[Map::max_invariants];
+    double values[Map::max_invariants] = {};
     Map::invariants(c, s, values);
     for (std::size_t k = 0; k < columns.size() / 2; ++k) {
       columns[2 * k][orbit] = values[k];
@@ -37,18 +37,21 @@ struct InvariantTrack {
     }
   }
 
+  // Past the map's invariants (count of max_invariants) the registers hold 0 and track nothing:
+  // the sampling loop has a fixed trip count, unrolled.
   void load(Read columns, std::size_t orbit) {
     count = columns.size() / 2;
-    for (std::size_t k = 0; k < count; ++k) {
-      initial[k] = ops::load<V>(&columns[2 * k][orbit]);
-      drift[k] = ops::load<V>(&columns[2 * k + 1][orbit]);
+    for (std::size_t k = 0; k < Map::max_invariants; ++k) {
+      initial[k] = k < count ? ops::load<V>(&columns[2 * k][orbit]) : V(0.0);
+      drift[k] = k < count ? ops::load<V>(&columns[2 * k + 1][orbit]) : V(0.0);
     }
   }
   void sample(const typename Map::Coeffs& c, const typename Map::template State<V>& s,
               ops::mask_t<V> alive) {
     V values[Map::max_invariants];
+    for (V& v : values) v = V(0.0);
     Map::invariants(c, s, values);
-    for (std::size_t k = 0; k < count; ++k)
+    for (std::size_t k = 0; k < Map::max_invariants; ++k)
       drift[k] = ops::select(alive, ops::max(drift[k], ops::abs(values[k] - initial[k])), drift[k]);
   }
   void store(Columns columns, std::size_t orbit) const {
