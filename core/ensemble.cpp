@@ -1,7 +1,5 @@
 #include "core/ensemble.hpp"
 
-#include <stdexcept>
-
 #include "core/error.hpp"
 
 namespace qmaps {
@@ -21,12 +19,6 @@ Ensemble::Ensemble(std::size_t n, std::size_t state_size,
     }
   }
   first_column_.push_back(column_specs.size());
-}
-
-const AlignedArray<double>& Ensemble::column(std::string_view path) const {
-  for (std::size_t c = 0; c < column_specs.size(); ++c)
-    if (column_specs[c].path == path) return columns[c];
-  throw std::logic_error("the ensemble has no column " + std::string(path));
 }
 
 void Ensemble::set_orbit(std::size_t i, const Ensemble& from, std::size_t j) {

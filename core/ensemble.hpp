@@ -9,7 +9,6 @@
 #include <limits>
 #include <span>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "core/aligned_array.hpp"
@@ -51,9 +50,6 @@ struct Ensemble {
   std::span<const AlignedArray<double>> columns_of(std::size_t m) const {
     return const_cast<Ensemble&>(*this).columns_of(m);
   }
-  // The column whose dataset is `path`; a logic error when there is none.
-  const AlignedArray<double>& column(std::string_view path) const;
-
   // Orbit j of `from` (its state, escape record and columns) as orbit i.
   void set_orbit(std::size_t i, const Ensemble& from, std::size_t j);
   // Copies the last orbit into the padding lanes, so that every lane holds a valid state.

@@ -97,6 +97,12 @@ class HostileFiles(unittest.TestCase):
             f.attrs["orbits"] = np.int64(1 << 50)
         self.info(enormous, "orbits = 1125899906842624 would need")
 
+    def test_a_configuration_that_cannot_be_read_is_the_files_fault(self):
+        # qmaps info reads the run's configuration for its optional measurements' columns.
+        def garbage(f):
+            f.attrs["config_resolved"] = np.bytes_(b"[map]\nname = 'nomap'\n")
+        self.info(garbage, "attribute config_resolved: ", "nomap")
+
     # Datasets whose length disagrees with the file's orbit count.
     def test_short_empty_or_scalar_per_orbit_datasets_are_refused(self):
         def replace(path, data):

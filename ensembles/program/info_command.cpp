@@ -4,6 +4,7 @@
 // point's summary.
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <ostream>
 #include <vector>
 
@@ -53,9 +54,15 @@ std::size_t points_in(const h5::Group& s) {
 // value over the orbits never escaped.
 void describe_measured(const h5::Group& root, std::size_t orbits,
                        const std::vector<std::uint8_t>& alive, std::ostream& out) {
-  const Config config = Config::parse(root.attr_string("config_resolved"), "config_resolved");
-  const auto model = map_of(config, chaos_options_of(config));
-  const auto measured = measured_of(config, *model);
+  std::unique_ptr<Model> model;
+  std::vector<std::string> measured;
+  try {  // the file's configuration: one that cannot be read is the file's fault
+    const Config config = Config::parse(root.attr_string("config_resolved"), "config_resolved");
+    model = map_of(config, chaos_options_of(config));
+    measured = measured_of(config, *model);
+  } catch (const Error& e) {
+    throw Error(ExitCode::io, "attribute config_resolved: " + std::string(e.what()));
+  }
   if (measured.empty()) return;
   out << "measured:   per-orbit columns over the orbits never escaped\n";
   const auto always = model->lane_columns({}), taken = model->lane_columns(measured);

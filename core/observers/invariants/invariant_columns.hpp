@@ -8,9 +8,6 @@
 
 namespace qmaps {
 
-inline std::size_t invariant_count(const Ensemble& e) {
-  return e.columns_of(lane_index<InvariantTrack>).size() / 2;
-}
 inline const AlignedArray<double>& invariant_initial(const Ensemble& e, std::size_t k) {
   return e.columns_of(lane_index<InvariantTrack>)[2 * k];
 }
