@@ -18,8 +18,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::ostringstream log;
   RunOptions run;
   run.resume = "input.h5.ckpt";
-  run.threads = 1;
-  run.quiet = true;
+  run.source.threads = 1;
+  run.session.quiet = true;
   try {
     run_command(run, log);
   } catch (const Error&) {

@@ -28,13 +28,13 @@ inline std::filesystem::path scratch() {
     std::ofstream("base.toml") << base_config();
     std::ostringstream log;
     RunOptions run;
-    run.config_path = "base.toml";
-    run.out = "base.h5";
-    run.threads = 1;
-    run.quiet = true;
+    run.source.config_path = "base.toml";
+    run.source.out = "base.h5";
+    run.source.threads = 1;
+    run.session.quiet = true;
     if (run_command(run, log) != 0) std::abort();
     setenv("QMAPS_SIGNAL_AT_STEP", "6:TERM", 1);
-    run.out = "stopped.h5";
+    run.source.out = "stopped.h5";
     if (run_command(run, log) != 5) std::abort();
     unsetenv("QMAPS_SIGNAL_AT_STEP");
     return d;

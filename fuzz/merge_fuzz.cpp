@@ -21,14 +21,14 @@ const std::vector<std::string>& shards() {
     for (int k = 1; k <= 3; ++k) {
       std::ostringstream log;
       qmaps::RunOptions run;
-      run.config_path = "base.toml";
-      run.sets = {"output.file=\"base.h5\""};  // the run's output, which every shard names
-      run.shard = std::to_string(k) + "/3";
-      run.out = "shard-" + std::to_string(k) + ".h5";
-      run.threads = 1;
-      run.quiet = true;
+      run.source.config_path = "base.toml";
+      run.source.sets = {"output.file=\"base.h5\""};  // the run's output, which every shard names
+      run.source.shard = std::to_string(k) + "/3";
+      run.source.out = "shard-" + std::to_string(k) + ".h5";
+      run.source.threads = 1;
+      run.session.quiet = true;
       if (qmaps::run_command(run, log) != 0) std::abort();
-      names.push_back(run.out);
+      names.push_back(run.source.out);
     }
     return names;
   }();

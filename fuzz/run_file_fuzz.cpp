@@ -29,10 +29,10 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }();
   (void)written;
   RunOptions run;
-  run.config_path = "again.toml";
-  run.out = "again.h5";
-  run.threads = 1;
-  run.quiet = true;
+  run.source.config_path = "again.toml";
+  run.source.out = "again.h5";
+  run.source.threads = 1;
+  run.session.quiet = true;
   try {
     run_command(run, out);
   } catch (const Error&) {

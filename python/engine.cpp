@@ -60,10 +60,10 @@ std::shared_ptr<const std::vector<qmaps::Phase>> points_of(
   return out;
 }
 
-// A run as qmaps::read_spec reads it, with the session's options it was read under.
+// A run as qmaps::read_spec reads it, with the options of its session.
 struct Spec {
   qmaps::RunSpec spec;
-  qmaps::RunOptions options;
+  qmaps::SessionOptions session;
 };
 
 // The run a configuration describes, read and checked (every key, before anything runs), to be
@@ -74,29 +74,30 @@ std::shared_ptr<Spec> read_spec(
     const std::string& write_to, int threads, const std::string& simd,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
     const std::string& command_line) {
-  qmaps::RunOptions o;
-  o.config_path = config_path;
-  o.config_text = config_text;
-  o.config_source = config_source;
-  o.sets = sets;
-  o.write_to = write_to;
-  o.threads = threads;
-  o.threads_given_as = "threads=";
-  o.simd = simd;
-  o.quiet = true;
-  o.command_line = command_line;
-  o.checkpoint_on_interrupt = false;
-  if (points) o.points = points_of(*points);
+  qmaps::SpecSource source;
+  source.config_path = config_path;
+  source.config_text = config_text;
+  source.config_source = config_source;
+  source.sets = sets;
+  source.write_to = write_to;
+  source.threads = threads;
+  source.threads_given_as = "threads=";
+  source.simd = simd;
+  if (points) source.points = points_of(*points);
+  qmaps::SessionOptions session;
+  session.quiet = true;
+  session.command_line = command_line;
+  session.checkpoint_on_interrupt = false;
   const qmaps::InterruptGuard interrupt;  // a signal stops a long draw (a shell's)
   const py::gil_scoped_release released;
-  return std::make_shared<Spec>(Spec{qmaps::read_spec(o), o});
+  return std::make_shared<Spec>(Spec{qmaps::read_spec(source), session});
 }
 
 // Runs the spec (its session); returns the log it wrote (the summary lines), or raises.
 std::string run(Spec& s, const py::object& progress) {
-  qmaps::RunOptions o = s.options;
+  qmaps::SessionOptions session = s.session;
   if (!progress.is_none())
-    o.on_segment = [&progress](long long step, long long total) {
+    session.on_segment = [&progress](long long step, long long total) {
       const py::gil_scoped_acquire gil;
       progress(step, total);
     };
@@ -107,7 +108,7 @@ std::string run(Spec& s, const py::object& progress) {
   const qmaps::InterruptGuard interrupt;
   {
     const py::gil_scoped_release released;  // other Python threads run while this one steps
-    code = qmaps::run_spec(s.spec, o, interrupt, log);
+    code = qmaps::run_spec(s.spec, session, interrupt, log);
   }
   std::string message = log.str();
   while (!message.empty() && message.back() == '\n') message.pop_back();

@@ -274,10 +274,10 @@ TEST(CheckpointColumns, EveryMeasuredColumnReadsBackByteForByte) {
   const Config config =
       Config::parse(fixture("small-suris-box.toml"), "small-suris-box.toml");
   const auto initial = InitialConditions::from_config(config, *map_of(config));
-  RunOptions options;
-  options.write_to = dir / "run.h5";
-  options.threads = 1;
-  qmaps::Run r = run_of(config, map_of(config), initial.orbits(), options);
+  SpecSource source;
+  source.write_to = dir / "run.h5";
+  source.threads = 1;
+  qmaps::Run r = run_of(config, map_of(config), initial.orbits(), source);
   r.plan.escape_bound = 0.55;  // some orbits escape, at the start or on the way
   Ensemble e = r.model->ensemble(r.orbits, r.measured);
   initial.start(*r.model, e, r.start, r.plan.escape_bound, [](std::size_t, std::span<const Phase>) {});

@@ -93,6 +93,19 @@ class Loader(unittest.TestCase):
                 self.assertEqual(h.axes, [g.attrs[a] for a in "xy"[:h.counts.ndim]])
                 self.assertEqual(h.samples, h.counts.sum() + h.underflow + h.overflow)
 
+    def test_every_histogram_by_its_path(self):
+        found = self.loaded.histograms()
+        expected = set()
+        with h5py.File(self.path) as f:
+            f.visititems(lambda name, obj: expected.add(name.rsplit("/", 1)[0])
+                         if name.endswith("/x_edges") else None)
+        self.assertEqual(set(found), expected)
+        self.assertIn("invariants/H/drift_histogram", found)
+        self.assertIn("sections/q1up", found)
+        for path, h in found.items():
+            with self.subTest(path=path):
+                self.assertEqual(h.samples, h.counts.sum() + h.underflow + h.overflow)
+
     def test_skipped_datasets_are_not_read(self):
         run = qmaps.load(self.path, skip=("final/*", "invariants/*/max_abs_drift"))
         self.assertEqual(run["final"].datasets, {})

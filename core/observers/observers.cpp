@@ -1,7 +1,6 @@
 #include "core/observers/observers.hpp"
 
 #include <algorithm>
-#include <span>
 #include <vector>
 
 namespace qmaps {
@@ -46,22 +45,6 @@ void Observers::merge(std::vector<Observers>&& partials) {
   for (auto& partial : partials) {
     for (std::size_t i = 0; i < densities.size(); ++i) densities[i].merge(partial.densities[i]);
     for (std::size_t i = 0; i < sections.size(); ++i) sections[i].merge(partial.sections[i]);
-  }
-}
-
-void Observers::merge_at(const Observers& part, std::size_t first_orbit) {
-  for (std::size_t i = 0; i < densities.size(); ++i) densities[i].merge(part.densities[i]);
-  for (std::size_t i = 0; i < sections.size(); ++i) {
-    sections[i].merge(part.sections[i]);
-    const SectionPoints& from = *part.sections[i].points;
-    SectionPoints::Cursor cursor;
-    std::vector<SectionPoint> some(std::min<std::size_t>(from.size(), std::size_t{1} << 16));
-    for (std::size_t at = 0; at < from.size(); at += some.size()) {  // by parts: no second copy
-      const auto points = std::span(some).first(std::min(some.size(), from.size() - at));
-      from.read(at, points, cursor);
-      for (const SectionPoint& p : points)
-        sections[i].points->keep(first_orbit + static_cast<std::size_t>(p.orbit), p.step, p.x, p.y);
-    }
   }
 }
 

@@ -4,7 +4,8 @@
 // observer knows how its thread partials are made, merged and finished; the runner's block
 // (core/block.hpp) drives them in registers through their *_lanes.hpp, at every width.
 // Each thread fills its own empty_copy(); merge() then finish() give a result that does not
-// depend on threads.
+// depend on threads. What they leave in a file, and how shards' add up, is described in
+// ensembles/io/run_observers.
 #include <vector>
 
 #include "core/observers/density/density.hpp"
@@ -25,10 +26,6 @@ struct Observers {
   Observers empty_copy() const;
   void merge(Observers&& partial);  // adds the partial's counts (the points are shared)
   void merge(std::vector<Observers>&& partials);  // the same, one after the other
-  // Adds the counts of `part`, which observed orbits numbered from 0 (a shard's), and keeps its
-  // section points as those of orbits first_orbit + i: parts merged in orbit order, finished,
-  // equal the observers of one run over all the orbits.
-  void merge_at(const Observers& part, std::size_t first_orbit);
   void finish();
 };
 

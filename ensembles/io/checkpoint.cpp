@@ -1,13 +1,12 @@
 #include "ensembles/io/checkpoint.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 #include "core/error.hpp"
 #include "core/escape.hpp"
-#include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
+#include "ensembles/io/run_observers/run_observers.hpp"
 
 namespace qmaps {
 namespace {
@@ -30,28 +29,8 @@ template <class T>
 void read_column(const h5::Group& g, const std::string& name, std::span<T> out, Rows rows) {
   read_column(g, name, out, rows.first, rows.total);
 }
-template <class T>
-std::vector<T> read_column(const h5::Group& g, const std::string& name, std::size_t first,
-                           std::size_t count, std::size_t total) {
-  std::vector<T> out(count);
-  read_column(g, name, std::span<T>(out), first, total);
-  return out;
-}
-
 Error bad(const h5::Group& g, const std::string& what) {
   return Error(ExitCode::io, "HDF5: " + g.path() + ": " + what);
-}
-
-// Counts of a histogram as a run leaves them: 0 ≤ count ≤ 2^53 (no sum of them can overflow).
-void restore_histogram(const h5::Group& g, const std::string& counts, Histogram& h) {
-  const auto cells = g.read_int64(counts, h.counts().size());
-  const std::int64_t under = g.attr_int64("underflow"), over = g.attr_int64("overflow");
-  constexpr std::int64_t most = std::int64_t{1} << 53;
-  for (const std::int64_t c : cells)
-    if (c < 0 || c > most) throw bad(g, counts + " holds the count " + std::to_string(c));
-  if (under < 0 || under > most || over < 0 || over > most)
-    throw bad(g, "underflow or overflow out of range");
-  h.restore(cells, under, over);
 }
 
 }  // namespace
@@ -66,17 +45,9 @@ void write_checkpoint(const std::string& path, RunRecord record, const h5::Group
   const std::size_t n = record.ensemble.orbits;
   const Rows rows = record.rows.or_all(n);
   if (initial) copy_phase(*initial, root.create_group("initial"), rows);
-  if (record.observers) write_kept(root, *record.observers, rows);
+  write_kept(root, describe_kept(record), rows);
   file.close();
   out.commit();
-}
-
-void write_kept(const h5::Group& root, const Observers& observers, Rows rows) {
-  for (const auto& s : observers.sections) {
-    const auto kept = s.points->kept();
-    write_rows<std::int64_t>(root.open_group("sections").open_group(s.name), "kept", kept,
-                             rows.or_all(kept.size()));
-  }
 }
 
 h5::File open_checkpoint(const std::string& path) {
@@ -150,60 +121,6 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
       throw bad(state, "orbit " + std::to_string(j) + ": " + why);
   }
   e.fill_padding();
-}
-
-void restore_observers(const h5::Group& root, Observers& o, Rows rows) {
-  const bool counts_here = ranks::root();  // each histogram's counts, once over the ranks
-  if (!o.densities.empty()) {
-    const auto histograms = root.open_group("histograms");
-    for (auto& d : o.densities)
-      if (counts_here) restore_histogram(histograms.open_group(d.histogram.name()), "counts", d.histogram);
-  }
-  if (o.sections.empty()) return;
-  const auto sections = root.open_group("sections");
-  for (auto& s : o.sections) {
-    const auto g = sections.open_group(s.name);
-    if (counts_here) restore_histogram(g, "density", s.density);
-    if (s.mode == SectionMode::exact && counts_here) {
-      if (!g.has_attr("interpolated")) throw bad(g, "it has no attribute interpolated");
-      s.interpolated = g.attr_int64("interpolated");
-      if (s.interpolated < 0 || s.interpolated > s.density.samples())
-        throw bad(g, "interpolated is " + std::to_string(s.interpolated) + ", not 0 to crossings");
-    }
-    // The points kept per orbit, each within the orbit's slots, say how many points there are:
-    // this process's follow those of the orbits before its rows.
-    SectionPoints& kept = *s.points;
-    const Rows orbits = rows.or_all(kept.kept().size());
-    const auto counts = read_column<std::int64_t>(g, "kept", orbits.first, orbits.count, orbits.total);
-    std::size_t points = 0;
-    for (const std::int64_t k : counts) {
-      if (k < 0 || k > kept.per_orbit())
-        throw bad(g, "an orbit keeps " + std::to_string(k) + " points, not 0 to " +
-                         std::to_string(kept.per_orbit()));
-      points += static_cast<std::size_t>(k);
-    }
-    const auto mine = static_cast<std::int64_t>(points);
-    const auto before = static_cast<std::size_t>(ranks::before(mine));
-    const auto total = static_cast<std::size_t>(ranks::sum(mine));
-    const auto orbit = read_column<std::int64_t>(g, "orbit", before, points, total);
-    const auto step = read_column<std::int64_t>(g, "step", before, points, total);
-    const auto x = read_column<double>(g, "x", before, points, total);
-    const auto y = read_column<double>(g, "y", before, points, total);
-    // Each orbit's points in step order, orbit after orbit, as many as it keeps.
-    kept.clear();
-    const auto first = static_cast<std::int64_t>(orbits.first);
-    for (std::size_t i = 0; i < points; ++i) {
-      const bool ordered = i == 0 || orbit[i] > orbit[i - 1] ||
-                           (orbit[i] == orbit[i - 1] && step[i] > step[i - 1]);
-      if (!ordered || orbit[i] < first ||
-          static_cast<std::size_t>(orbit[i] - first) >= counts.size() || step[i] < 1 ||
-          !std::isfinite(x[i]) || !std::isfinite(y[i]))
-        throw bad(g, "point " + std::to_string(before + i) + " is not one a run records");
-      kept.keep(static_cast<std::size_t>(orbit[i] - first), step[i], x[i], y[i]);
-    }
-    if (!std::ranges::equal(counts, kept.kept()))
-      throw bad(g, "its points are not spread over the orbits as kept says");
-  }
 }
 
 }  // namespace qmaps

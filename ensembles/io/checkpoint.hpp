@@ -1,9 +1,9 @@
 #pragma once
 // A run's checkpoint, "<output>.ckpt" (docs/hdf5-schema.md): the file of the run so far, as
 // write_run writes it with every per-orbit dataset (so the ensemble's state, escapes, invariant
-// tracking and the observers' histograms and section points), plus the run's /initial points and
-// the sections' per-orbit kept counts. Resuming reads the state itself, never the ensemble's
-// generator, and goes on exactly where the run stopped.
+// tracking and the observers' histograms and section points), plus the run's /initial points
+// and what the run observers keep besides (measured_output.hpp, write_kept). Resuming reads the
+// state itself, never the ensemble's generator, and goes on exactly where the run stopped.
 #include <cstdint>
 #include <string>
 
@@ -22,10 +22,6 @@ inline constexpr const char* checkpoint_suffix = ".ckpt";
 // the run's /initial group, copied into the checkpoint.
 void write_checkpoint(const std::string& path, RunRecord record, const h5::Group* initial);
 
-// /sections/<name>/kept: the points each orbit keeps (a checkpoint's and a shard's), at the
-// ensemble's rows of the file (count 0: the ensemble is the file's).
-void write_kept(const h5::Group& root, const Observers& observers, Rows rows = {});
-
 // The checkpoint at `path`, opened for reading once it is known to be one this qmaps can resume.
 h5::File open_checkpoint(const std::string& path);
 // Fills orbits [at, at + rows.count) of `e` (laid out for the checkpoint's map) with the file's
@@ -34,9 +30,4 @@ h5::File open_checkpoint(const std::string& path);
 // place `at` in the whole run's; a rank of qmaps-mpi reads its rows of the run's checkpoint.
 void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows rows = {},
                    std::size_t at = 0);
-// Sets the counts and points of `o` (built from the checkpoint's configuration, for rows.count
-// orbits) to those of the file's rows; the histograms' counts go to rank 0 alone (ensembles/io/ranks.hpp),
-// so that the ranks' add up to the file's.
-void restore_observers(const h5::Group& root, Observers& o, Rows rows = {});
-
 }  // namespace qmaps

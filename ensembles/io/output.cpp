@@ -10,13 +10,12 @@
 #include <vector>
 
 #include <unistd.h>
-#include <omp.h>
 
 #include "core/error.hpp"
 #include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
-#include "ensembles/io/statistics.hpp"
-#include "core/observers/invariants/invariant_columns.hpp"
+#include "ensembles/io/measured_output.hpp"
+#include "ensembles/io/run_observers/run_observers.hpp"
 
 namespace qmaps {
 namespace {
@@ -25,14 +24,6 @@ struct Column {
   const h5::Group& group;
   std::string name;
 };
-
-// row(i) for every i in [0, count), on `threads` threads; each row computed alone.
-template <class Row>
-void for_each_row(std::size_t count, int threads, Row row) {
-  const long long rows = static_cast<long long>(count);
-#pragma omp parallel for schedule(static) num_threads(threads)
-  for (long long r = 0; r < rows; ++r) row(static_cast<std::size_t>(r));
-}
 
 // The first row and the count of part p of `count` rows (empty past them).
 std::pair<std::size_t, std::size_t> part_of(std::size_t p, std::size_t count) {
@@ -65,177 +56,7 @@ void write_measured_columns(const h5::Group& root, const Ensemble& e, Rows rows)
   }
 }
 
-// counts (shape bins, or bins × bins), edges per axis, and the attributes of a histogram.
-void write_histogram(const h5::Group& g, const Histogram& h, const std::string& counts_name) {
-  std::vector<hsize_t> dims;
-  for (const Axis& a : h.axes()) dims.push_back(static_cast<hsize_t>(a.bins));
-  g.write(counts_name, std::span<const std::int64_t>(h.counts()), dims);
-  const char* edge_names[2] = {"x_edges", "y_edges"};
-  const char* coordinate_names[2] = {"x", "y"};
-  for (std::size_t k = 0; k < h.axes().size(); ++k) {
-    g.write(edge_names[k], h.axes()[k].edges());
-    g.attr(coordinate_names[k], h.axes()[k].coordinate);
-  }
-  g.attr("underflow", h.underflow());
-  g.attr("overflow", h.overflow());
-  g.attr("samples", h.samples());
-}
-
-// A histogram as every rank's counts add up to.
-void write_histogram_over_ranks(const h5::Group& g, Histogram h, const std::string& counts_name) {
-  add_over_ranks(h);
-  write_histogram(g, h, counts_name);
-}
-
-void write_observers(const h5::Group& root, const Observers& o, long long stride, Rows orbits) {
-  if (!o.densities.empty()) {
-    const auto histograms = root.create_group("histograms");
-    for (const auto& d : o.densities) {
-      const auto g = histograms.create_group(d.histogram.name());
-      write_histogram_over_ranks(g, d.histogram, "counts");
-      g.attr("stride", static_cast<std::int64_t>(stride));
-    }
-  }
-  if (o.sections.empty()) return;
-  const auto sections = root.create_group("sections");
-  for (const auto& s : o.sections) {
-    const auto g = sections.create_group(s.name);
-    // The points' columns in parts, read from the slots in (orbit, step) order: no second copy.
-    // A rank's points follow those of the ranks before it, as its orbits do.
-    const SectionPoints& points = *s.points;
-    const std::size_t n = points.size();
-    const auto mine = static_cast<std::int64_t>(n);
-    const Rows rows{static_cast<std::size_t>(ranks::before(mine)), n,
-                    static_cast<std::size_t>(ranks::sum(mine))};
-    std::vector<SectionPoint> part(std::min(n, orbits_per_part));
-    SectionPoints::Cursor cursor;
-    write_columns<std::int64_t>({{g, "orbit"}, {g, "step"}}, rows,
-                                [&](std::size_t first, std::size_t count, auto& values) {
-                                  points.read(first, std::span(part).first(count), cursor);
-                                  for (std::size_t i = 0; i < count; ++i) {
-                                    values[0][i] = part[i].orbit + static_cast<std::int64_t>(orbits.first);
-                                    values[1][i] = part[i].step;
-                                  }
-                                });
-    write_columns({{g, "x"}, {g, "y"}}, rows,
-                  [&](std::size_t first, std::size_t count, auto& values) {
-                    points.read(first, std::span(part).first(count), cursor);
-                    for (std::size_t i = 0; i < count; ++i) {
-                      values[0][i] = part[i].x;
-                      values[1][i] = part[i].y;
-                    }
-                  });
-    Histogram density = s.density;
-    add_over_ranks(density);
-    write_histogram(g, density, "density");
-    g.attr("plane", std::string(coordinate_name(s.plane)));
-    g.attr("value", s.value);
-    g.attr("direction", std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
-    g.attr("mode", std::string(section_mode_names[static_cast<std::size_t>(s.mode)]));
-    if (s.mode == SectionMode::exact) g.attr("interpolated", ranks::sum(s.interpolated));
-    g.attr("cap", s.cap);
-    g.attr("crossings", density.samples());
-  }
-}
-
-// /chaos (docs/chaos.md): each indicator of every orbit; each one's histogram and quartiles over
-// the orbits that stayed bounded (log10 of the GALIs); the orbits' classes by MEGNO.
-void write_chaos(const h5::Group& root, const RunRecord& run, Rows rows) {
-  if (run.model.indicator_names().empty()) return;
-  ChaosTable t = chaos_table(run.model, run.ensemble, run.chaos.megno_threshold);
-  t.regular = ranks::sum(t.regular);
-  t.chaotic = ranks::sum(t.chaotic);
-  t.escaped = ranks::sum(t.escaped);
-  const auto chaos = root.create_group("chaos");
-  chaos.attr("megno_threshold", run.chaos.megno_threshold);
-  chaos.attr("regular", t.regular);
-  chaos.attr("chaotic", t.chaotic);
-  chaos.attr("escaped", t.escaped);
-  chaos.attr("chaotic_fraction", t.chaotic_fraction());
-  chaos.attr("class_codes", std::string("0 regular, 1 chaotic (megno > megno_threshold), 2 escaped"));
-  chaos.attr("unit", std::string("Lyapunov exponents per step"));
-  if (run.per_orbit) {
-    for (std::size_t k = 0; k < t.names.size(); ++k)
-      write_rows<double>(chaos, t.names[k], t.values[k], rows);
-    write_rows<std::uint8_t>(chaos, "class", t.classes, rows);
-  }
-  const auto histograms = chaos.create_group("histograms");
-  for (std::size_t k = 0; k < t.names.size(); ++k) {
-    // Every rank's values, in orbit order: the same quartiles and range on every rank.
-    const std::vector<double> bounded = ranks::gathered(t.bounded(k));
-    double lo = 0, hi = 1;
-    if (!bounded.empty()) {
-      const auto [min, max] = std::minmax_element(bounded.begin(), bounded.end());
-      lo = *min;
-      hi = *max > *min ? std::nextafter(*max, HUGE_VAL) : *min + 1;
-    }
-    const std::string name = t.histogram_name(k);
-    Histogram h(name, {Axis{name, lo, hi, run.chaos.bins}});
-    for (double v : bounded) h.add(&v);
-    const auto g = histograms.create_group(name);
-    write_histogram(g, h, "counts");
-    g.attr("q1", quantile(bounded, 0.25));
-    g.attr("median", quantile(bounded, 0.5));
-    g.attr("q3", quantile(bounded, 0.75));
-  }
-}
-
 }  // namespace
-
-ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold) {
-  ChaosTable t;
-  t.names = model.indicator_names();
-  const std::size_t n = e.orbits;
-  t.values.assign(t.names.size(), std::vector<double>(n));
-  for_each_row(n, omp_get_max_threads(), [&](std::size_t i) {
-    const auto v = model.indicators(e, i);
-    for (std::size_t k = 0; k < v.size(); ++k) t.values[k][i] = v[k];
-  });
-  t.classes.resize(n);
-  if (t.names.empty()) return t;
-  const std::size_t megno = 2;  // indicator_names(): lyapunov, fli, megno, …
-  for (std::size_t i = 0; i < n; ++i) {
-    t.classes[i] = e.escape_step[i] >= 0                        ? 2
-                   : t.values[megno][i] > megno_threshold ? 1
-                                                          : 0;
-    ++(t.classes[i] == 0 ? t.regular : t.classes[i] == 1 ? t.chaotic : t.escaped);
-  }
-  return t;
-}
-
-double ChaosTable::chaotic_fraction() const {
-  return regular + chaotic > 0 ? static_cast<double>(chaotic) / static_cast<double>(regular + chaotic)
-                               : std::nan("");
-}
-
-bool ChaosTable::logarithmic(std::size_t k) const { return names[k].starts_with("gali"); }
-
-std::string ChaosTable::histogram_name(std::size_t k) const {
-  return logarithmic(k) ? "log10_" + names[k] : names[k];
-}
-
-std::vector<double> ChaosTable::bounded(std::size_t k) const {
-  std::vector<double> out;
-  for (std::size_t i = 0; i < classes.size(); ++i) {
-    const double v = logarithmic(k) ? std::log10(values[k][i]) : values[k][i];
-    if (classes[i] != 2 && std::isfinite(v)) out.push_back(v);
-  }
-  return out;
-}
-
-DriftHistogram drift_histogram(const Ensemble& e, std::size_t k) {
-  DriftHistogram d{Histogram("log10_relative_drift", {{"log10_relative_drift", -18.0, 0.0, 72}})};
-  for (std::size_t i = 0; i < e.orbits; ++i) {
-    const double drift = invariant_drift(e, k)[i];
-    if (drift == 0) {
-      ++d.zero;
-      continue;
-    }
-    const double x = std::log10(relative_drift(invariant_initial(e, k)[i], drift));
-    d.histogram.add(&x);
-  }
-  return d;
-}
 
 DatasetAt dataset_at(const h5::Group& root, const std::string& path, bool make) {
   const std::size_t slash = path.rfind('/');
@@ -380,13 +201,11 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const std::size_t n = e.orbits;
   const Rows rows = run.rows.or_all(n);
   // The columns computed for the file (final phase points and invariants) are computed part by
-  // part on this thread, between its writes, which are mostly the kernel's copies. The drift
-  // histograms (a log10 per orbit and invariant, the most computing) are counted meanwhile, each
-  // by a thread of its own. OpenMP threads would spin idle between the parts on the cores they
-  // need.
-  std::vector<std::future<DriftHistogram>> drifts;
-  for (std::size_t k = 0; k < model.invariant_names().size(); ++k)
-    drifts.push_back(on_a_thread_if_possible([&e, k] { return drift_histogram(e, k); }));
+  // part on this thread, between its writes, which are mostly the kernel's copies. The run
+  // observers' output (drift histograms: a log10 per orbit and invariant, the most computing) is
+  // described meanwhile on a thread of its own. OpenMP threads would spin idle between the
+  // parts on the cores they need.
+  auto described = on_a_thread_if_possible([&run] { return describe_run(run); });
 
   write_build(root);
   root.attr("map", std::string(model.name()));
@@ -460,28 +279,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     });
     write_measured_columns(root, e, rows);
   }
-  for (std::size_t k = 0; k < inv_names.size(); ++k) {
-    DriftHistogram drift = drifts[k].get();
-    add_over_ranks(drift.histogram);
-    const auto dg = groups[k].create_group("drift_histogram");
-    write_histogram(dg, drift.histogram, "counts");
-    dg.attr("zero", ranks::sum(drift.zero));
-  }
-  if (run.image) {
-    Histogram image = run.image->histogram;
-    std::size_t ix = 0, iy = 0;
-    for (std::size_t k = 0; k < inv_names.size(); ++k) {
-      if (inv_names[k] == image.axes()[0].coordinate) ix = k;
-      if (inv_names[k] == image.axes()[1].coordinate) iy = k;
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      const double v[2] = {invariant_initial(e, ix)[i], invariant_initial(e, iy)[i]};
-      image.add(v);
-    }
-    write_histogram_over_ranks(invariants.create_group("image"), image, "counts");
-  }
-  if (run.observers) write_observers(root, *run.observers, run.plan.stride, rows);
-  write_chaos(root, run, rows);
+  write_output(root, described.get(), rows, run.per_orbit);
   if (run.trajectories) write_trajectories(root, *run.trajectories);
 
   if (!run.per_orbit) return;

@@ -29,21 +29,6 @@ struct ChaosReport {
   long long bins = 100;
 };
 
-// The chaos indicators of every orbit (docs/chaos.md) and its class: 0 regular, 1 chaotic (MEGNO
-// above the threshold), 2 escaped.
-struct ChaosTable {
-  std::vector<std::string> names;           // indicator_names(): lyapunov, fli, megno, …
-  std::vector<std::vector<double>> values;  // [indicator][orbit]
-  std::vector<std::uint8_t> classes;
-  std::int64_t regular = 0, chaotic = 0, escaped = 0;
-  double chaotic_fraction() const;  // chaotic / (regular + chaotic); NaN when every orbit escaped
-  bool logarithmic(std::size_t k) const;  // the GALIs are summarized as log10
-  std::string histogram_name(std::size_t k) const;  // "log10_gali2" for a GALI
-  // Indicator k (log10 where logarithmic) over the orbits that stayed bounded, where finite.
-  std::vector<double> bounded(std::size_t k) const;
-};
-ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_threshold);
-
 // The rows of a file's per-orbit datasets that this process writes: [first, first + count) of
 // total. A rank of qmaps-mpi writes its orbits' rows into the one file of the run; any other
 // process writes all of them (first 0, count = total).
@@ -72,7 +57,7 @@ struct RunRecord {
   std::string config_text{}, config_resolved{}, command_line{};
   std::string started{}, finished{};  // ISO 8601, UTC
   std::string sessions{};         // one line per process that advanced the run (session_line)
-  const Observers* observers = nullptr;
+  Observers* observers = nullptr;  // accumulated: a checkpoint restores them, a merge adds to them
   const InvariantImage* image = nullptr;
   std::string ensemble_description{};  // what the initial conditions are, in one line
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
@@ -111,15 +96,6 @@ void write_rows(const h5::Group& g, const std::string& name, std::span<const T> 
 // Copies the phase datasets of `from` into new ones of `to`, both of rows.total orbits: rows
 // [rows.first, rows.first + rows.count), by parts.
 void copy_phase(const h5::Group& from, const h5::Group& to, Rows rows);
-
-// The histogram of log10 of each orbit's max relative drift max|I_n − I_0|/|I_0| of invariant k
-// (the absolute drift where I_0 = 0, as qmaps info and check report it):
-// bins of 0.25 from −18 to 0; `zero` counts drifts exactly 0 (kept apart from the bins).
-struct DriftHistogram {
-  Histogram histogram;
-  std::int64_t zero = 0;
-};
-DriftHistogram drift_histogram(const Ensemble& e, std::size_t invariant);
 
 // The dataset at `path` from `root`, in a group ("invariants/H/initial"): the group that holds it,
 // made where missing when `make`, and its name there.

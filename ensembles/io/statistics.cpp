@@ -21,6 +21,22 @@ double quantile(std::vector<double> values, double f) {
   return values[k];
 }
 
+std::vector<double> quantiles(std::vector<double> values, std::initializer_list<double> ascending) {
+  std::vector<double> out;
+  auto from = values.begin();  // the ranks below a found one hold nothing above it
+  for (const double f : ascending) {
+    if (values.empty()) {
+      out.push_back(std::nan(""));
+      continue;
+    }
+    const auto at = values.begin() + static_cast<std::ptrdiff_t>(rank_of(f, values.size()));
+    std::nth_element(from, at, values.end());
+    out.push_back(*at);
+    from = at;
+  }
+  return out;
+}
+
 double relative_drift(double initial, double max_abs_drift) {
   const double scale = std::fabs(initial);
   return !std::isfinite(scale) ? std::numeric_limits<double>::quiet_NaN()

@@ -7,12 +7,15 @@
 // The files' attributes (chaos quartiles, a sweep's medians and worst drift), the drift
 // histograms, `qmaps info` and `qmaps check` all use these.
 #include <cstdint>
+#include <initializer_list>
 #include <span>
 #include <vector>
 
 namespace qmaps {
 
 double quantile(std::vector<double> values, double f);
+// quantile(values, f) for each f of `ascending`, from one copy of the values.
+std::vector<double> quantiles(std::vector<double> values, std::initializer_list<double> ascending);
 double relative_drift(double initial, double max_abs_drift);
 
 // The orbits' relative drift of one invariant, sorted for its quantiles.

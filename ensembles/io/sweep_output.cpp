@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "ensembles/io/run_observers/chaos_summary.hpp"
 #include "ensembles/io/statistics.hpp"
 
 namespace qmaps {

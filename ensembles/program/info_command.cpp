@@ -74,8 +74,9 @@ void describe_measured(const h5::Group& root, std::size_t orbits,
       std::vector<double> kept;
       for (std::size_t i = 0; i < orbits; ++i)
         if (alive[i]) kept.push_back(values[i]);
-      out << "  " << path << ": least " << g(quantile(kept, 0)) << ", median "
-          << g(quantile(kept, 0.5)) << ", largest " << g(quantile(kept, 1)) << '\n';
+      const auto q = quantiles(std::move(kept), {0, 0.5, 1});
+      out << "  " << path << ": least " << g(q[0]) << ", median " << g(q[1]) << ", largest "
+          << g(q[2]) << '\n';
     }
 }
 

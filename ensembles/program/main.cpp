@@ -71,17 +71,17 @@ int main(int argc, char** argv) {
 
   qmaps::RunOptions run;
   auto* run_cmd = app.add_subcommand("run", "advance an ensemble as a TOML config says; write HDF5");
-  run_cmd->add_option("config", run.config_path, "TOML configuration file");
+  run_cmd->add_option("config", run.source.config_path, "TOML configuration file");
   run_cmd->add_option("--resume", run.resume,
                       "continue the run of this checkpoint (<output>.ckpt) instead of a config");
-  run_cmd->add_option("--set", run.sets, "override a config key: section.key=value (repeatable)");
-  run_cmd->add_option("--out", run.out, "output HDF5 file (overrides [output] file)");
-  run_cmd->add_option("--threads", run.threads, "OpenMP threads (default: all cores)")
+  run_cmd->add_option("--set", run.source.sets, "override a config key: section.key=value (repeatable)");
+  run_cmd->add_option("--out", run.source.out, "output HDF5 file (overrides [output] file)");
+  run_cmd->add_option("--threads", run.source.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
-  run_cmd->add_option("--simd", run.simd, "path: auto, scalar (the reference), sse2, avx2, avx512")
+  run_cmd->add_option("--simd", run.source.simd, "path: auto, scalar (the reference), sse2, avx2, avx512")
       ->capture_default_str();
-  run_cmd->add_flag("--quiet", run.quiet, "no progress output");
-  run_cmd->add_option("--shard", run.shard,
+  run_cmd->add_flag("--quiet", run.session.quiet, "no progress output");
+  run_cmd->add_option("--shard", run.source.shard,
                       "k/K: run only orbit range k of K into a shard file (<output>.shard-k-of-K "
                       "unless --out), for qmaps merge");
 
@@ -177,7 +177,7 @@ int main(int argc, char** argv) {
     // as a write, never ends the process with the run's lock left behind.
     if (*run_cmd || *merge_cmd) std::signal(SIGPIPE, SIG_IGN);
     if (*run_cmd) {
-      for (int i = 0; i < argc; ++i) run.command_line += (i ? " " : "") + std::string(argv[i]);
+      for (int i = 0; i < argc; ++i) run.session.command_line += (i ? " " : "") + std::string(argv[i]);
       return qmaps::run_command(run, errors);
     }
     if (*merge_cmd) return qmaps::merge_command(merge, std::cerr);

@@ -21,6 +21,7 @@
 #include "ensembles/config/shard.hpp"
 #include "ensembles/io/checkpoint.hpp"
 #include "ensembles/io/output.hpp"
+#include "ensembles/io/run_observers/run_observers.hpp"
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/run_setup.hpp"
@@ -135,7 +136,7 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   const auto total = shards.front().orbits_total;
   if (total <= 0) throw Error(ExitCode::io, "'" + shards.front().path + "': attribute orbits_total is " + std::to_string(total));
   const auto orbits = static_cast<std::size_t>(total);
-  RunOptions whole;
+  SpecSource whole;
   whole.threads = 1;
   whole.simd = "scalar";
   Run r = run_of(config, map_of(config, chaos_options_of(config)), orbits, whole);
@@ -155,6 +156,7 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   if (initial) create_phase(*initial, orbits);
 
   Ensemble e = r.model->ensemble(orbits, r.measured);
+  MeasuredOutput kept = describe_kept(record_of(r, e, 0, "", "", ""));  // the shards' add up here
   // Each shard's trajectories (its orbits of each), and where each orbit's rows are.
   std::vector<std::vector<Trajectory>> parts;
   std::vector<std::map<std::size_t, std::pair<std::size_t, std::vector<std::size_t>>>> rows_of(
@@ -175,8 +177,11 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
         throw Error(ExitCode::io, "it stopped at step " + std::to_string(e.step) + " of " +
                                       std::to_string(r.plan.total));
       Observers observers = observers_from_config(config, *r.model, n, r.plan.total);
-      restore_observers(root, observers);
-      r.observers.merge_at(observers, first);
+      RunRecord shard_record = record_of(r, e, 0, "", "", "");
+      shard_record.observers = &observers;
+      MeasuredOutput shard_kept = describe_kept(shard_record);
+      restore_kept(root, shard_kept);
+      add_part(kept, shard_kept, first);
       std::vector<Trajectory> trajectories = r.trajectories;
       keep_orbits_in(trajectories, first, n);
       read_trajectories(root, trajectories, r.plan.total);

@@ -15,6 +15,7 @@
 #include "ensembles/io/checkpoint.hpp"
 #include "ensembles/io/output.hpp"
 #include "ensembles/io/output_lock.hpp"
+#include "ensembles/io/run_observers/run_observers.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
@@ -83,7 +84,7 @@ void keeping_the_work_on_failure(const Run& r, const std::string& checkpoint, Sa
 // writing a checkpoint every `checkpoint_every` steps and, on SIGINT, SIGTERM or SIGHUP, one
 // before it stops; then writes the output file and removes the checkpoint.
 int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
-            const InterruptGuard& interrupt, const RunOptions& options, std::ostream& log) {
+            const InterruptGuard& interrupt, const SessionOptions& session, std::ostream& log) {
   const auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
@@ -97,20 +98,20 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     r.observers.finish();
     naming_failures(checkpoint, [&] {
       write_checkpoint(checkpoint,
-                       record_of(r, e, first, session_started, utc_now(), options.command_line),
+                       record_of(r, e, first, session_started, utc_now(), session.command_line),
                        from);
     });
   };
   const auto save = [&] { save_from(initial ? &*initial : nullptr); };
 
   const std::size_t orbits = r.shard ? r.orbits : r.total;  // the file's
-  Progress progress(!options.quiet && ranks::root() && isatty(STDERR_FILENO), log, orbits, first,
+  Progress progress(!session.quiet && ranks::root() && isatty(STDERR_FILENO), log, orbits, first,
                     r.plan.total);
   // Each segment samples into empty observers, merged into the run's: the points so far are
   // neither copied nor sorted per segment, only before they are written (finish()).
   const Observers blank = r.observers.empty_copy();
   const SegmentLoop segments{r.plan,   SegmentLoop::run_aim, r.checkpoint_every,
-                             progress, interrupt,            options.on_segment};
+                             progress, interrupt,            session.on_segment};
   const int signal = segments.run(
       e.step,
       [&](const RunPlan& segment) {
@@ -126,7 +127,7 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     // that a kill in what remains (mpirun's SIGKILL, 1 s after it passed SIGTERM on to the
     // ranks) leaves none behind.
     output.discard();
-    if (!options.checkpoint_on_interrupt) {
+    if (!session.checkpoint_on_interrupt) {
       progress.end();
       log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
           << r.plan.total << ": stopped, nothing written\n";
@@ -147,9 +148,9 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   r.observers.finish();
   const auto write = [&] {
     naming_failures(r.path, [&] {  // an incomplete file is never committed
-      write_run(file.root(),
-                record_of(r, e, first, session_started, utc_now(), options.command_line));
-      if (r.shard) write_kept(file.root(), r.observers);  // for qmaps merge
+      const RunRecord record = record_of(r, e, first, session_started, utc_now(), session.command_line);
+      write_run(file.root(), record);
+      if (r.shard) write_kept(file.root(), describe_kept(record));  // for qmaps merge
       file.close();
     });
   };
@@ -229,7 +230,8 @@ void refuse_an_unresumed_checkpoint(const std::string& output) {
 
 int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
                    std::ostream& log) {
-  if (!options.config_path.empty() || !options.sets.empty() || !options.out.empty())
+  if (!options.source.config_path.empty() || !options.source.sets.empty() ||
+      !options.source.out.empty())
     throw usage_error(
         "--resume continues the run its checkpoint describes: give no config, --set or --out");
   const std::string& path = options.resume;
@@ -254,7 +256,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       const Config config =
           Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
       // A shard's checkpoint resumes the shard: its range of the ensemble's orbits.
-      RunOptions resumed = options;
+      SpecSource resumed = options.source;
       const bool shard = root.has_attr("shard");
       if (shard && ranks::count() > 1)
         throw usage_error("--resume " + path + ": a shard's checkpoint resumes in one process");
@@ -293,7 +295,8 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       if (e.step < 0 || e.step > r.plan.total)
         throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
                                       std::to_string(r.plan.total) + "]");
-      restore_observers(root, r.observers, rows);
+      MeasuredOutput kept = describe_kept(record_of(r, e, e.step, "", "", ""));
+      restore_kept(root, kept, rows);
       if (ranks::root()) read_trajectories(root, r.trajectories, r.plan.total);
       else
         for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);  // of none of its orbits
@@ -301,7 +304,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
         copy_phase(root.open_group("initial"), file.root().create_group("initial"),
                    rows.or_all(r.orbits));
     });
-    return execute(r, e, output, file, interrupt, options, log);
+    return execute(r, e, output, file, interrupt, options.session, log);
   });
 }
 
@@ -311,15 +314,16 @@ int run_command(const RunOptions& options, std::ostream& log) {
   // A signal from here on is answered after the first segment: the run stops with a checkpoint.
   const InterruptGuard interrupt;
   if (!options.resume.empty()) return resume_command(options, interrupt, log);
-  RunSpec spec = read_spec(options);
-  return run_spec(spec, options, interrupt, log);
+  RunSpec spec = read_spec(options.source);
+  return run_spec(spec, options.session, interrupt, log);
 }
 
-int run_spec(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+int run_spec(RunSpec& spec, const SessionOptions& session, const InterruptGuard& interrupt,
              std::ostream& log) {
   if (spec.ran) throw usage_error("a run's spec runs once: read it again to run it again");
   spec.ran = true;
-  if (spec.sweep) return run_sweep(spec, options, interrupt, log);
+  for (RunPoint& p : spec.points) p.run.command_line = session.command_line;  // the run's first
+  if (spec.sweep) return run_sweep(spec, session, interrupt, log);
   const InitialConditions* initial_conditions = &spec.points.front().initial;
   Run& r = spec.points.front().run;
   if (ranks::count() > 1) on_every_rank([&] { check_same_run(r); });
@@ -356,7 +360,7 @@ int run_spec(RunSpec& spec, const RunOptions& options, const InterruptGuard& int
     if (ranks::count() > 1 && ranks::root()) record_alone(r, *initial_conditions);
     else
       for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);
-    return execute(r, e, output, file, interrupt, options, log);
+    return execute(r, e, output, file, interrupt, session, log);
   });
 }
 

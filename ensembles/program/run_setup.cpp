@@ -87,16 +87,16 @@ double bytes_per_orbit(const Model& model, std::span<const std::string> measured
 }
 
 Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
-           const RunOptions& options) {
+           const SpecSource& source) {
   Run r;
   r.model = std::move(model);
   r.orbits = r.total = orbits;
-  if (!options.shard.empty()) {
-    r.shard = Shard::parse(options.shard);
+  if (!source.shard.empty()) {
+    r.shard = Shard::parse(source.shard);
     r.first = r.shard->first(orbits);
     r.orbits = r.shard->size(orbits);
     if (r.orbits == 0)
-      throw usage_error("--shard " + options.shard + ": the ensemble's " + std::to_string(orbits) +
+      throw usage_error("--shard " + source.shard + ": the ensemble's " + std::to_string(orbits) +
                         " orbits leave this shard none");
   } else if (ranks::count() > 1) {  // qmaps-mpi: rank r runs the orbits of shard r + 1
     const Shard part{static_cast<std::size_t>(ranks::rank()) + 1,
@@ -127,11 +127,11 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (r.checkpoint_every < 0)
     throw usage_error(config.where("run", "checkpoint_every") + " must be >= 0 (0: never)");
 
-  r.x.isa = resolve_isa(options.simd);
+  r.x.isa = resolve_isa(source.simd);
   // Checked even where the scalar path runs on one thread: the request is the same mistake.
   const int team =
-      checked_threads(r.x.isa == Isa::scalar && options.threads == 0 ? 1 : options.threads,
-                      options.threads_given_as + std::to_string(options.threads));
+      checked_threads(r.x.isa == Isa::scalar && source.threads == 0 ? 1 : source.threads,
+                      source.threads_given_as + std::to_string(source.threads));
   r.x.threads = r.x.isa == Isa::scalar ? 1 : team;
   r.x.chains = static_cast<int>(config.integer_or("run", "chains", Execution{}.chains));
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
@@ -152,15 +152,15 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   r.chaos = chaos_report_of(config);
 
   // The caller's file (qmaps.run) makes [output] file a name the configuration may keep.
-  r.path = options.write_to.empty() ? config.string("output", "file")
+  r.path = source.write_to.empty() ? config.string("output", "file")
                                     : config.string_or("output", "file", "");
   // A shard's file: --out, or the output's name with ".shard-k-of-K".
   if (r.shard)
-    r.path = !options.out.empty() ? options.out
+    r.path = !source.out.empty() ? source.out
                                   : r.path + ".shard-" + std::to_string(r.shard->index) + "-of-" +
                                         std::to_string(r.shard->count);
-  if (!options.write_to.empty()) r.path = options.write_to;
-  check_output_name(r.path, options.write_to.empty() ? config.where("output", "file") : "the output");
+  if (!source.write_to.empty()) r.path = source.write_to;
+  check_output_name(r.path, source.write_to.empty() ? config.where("output", "file") : "the output");
   // Every name the run derives from the output's must be legal before the run starts: the
   // longest is the checkpoint's temporary, "<name>.ckpt.tmp-<pid>".
   const auto slash = r.path.rfind('/');
@@ -260,7 +260,7 @@ double memory_of(const Run& r, std::size_t orbits) {
   return bytes;
 }
 
-RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
+RunRecord record_of(Run& r, const Ensemble& e, long long session_first,
                     const std::string& session_started, const std::string& now,
                     const std::string& session_command) {
   return RunRecord{

@@ -65,7 +65,7 @@ struct Run {
 // `orbits` orbits of `model` (with --shard, for its range of them); every error names its key.
 // The ensemble itself is the caller's.
 Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbits,
-           const RunOptions& options);
+           const SpecSource& source);
 
 // The provenance an earlier session wrote into a file of the run (a checkpoint or a shard): the
 // ensemble's kind, seed and description, the configuration as given, the first command line
@@ -89,8 +89,9 @@ double memory_of(const Run& r);
 // points, known before their observers are made): a section's slots scale with the orbits.
 double memory_of(const Run& r, std::size_t orbits);
 
-// The record of the run with the ensemble where it is now, this session ended at `now`.
-RunRecord record_of(const Run& r, const Ensemble& e, long long session_first,
+// The record of the run with the ensemble where it is now, this session ended at `now`; its
+// observers are the run's (a checkpoint restores them, a merge adds to them).
+RunRecord record_of(Run& r, const Ensemble& e, long long session_first,
                     const std::string& session_started, const std::string& now,
                     const std::string& session_command);
 

@@ -15,33 +15,32 @@
 namespace qmaps {
 namespace {
 
-// The configuration as options give it: its file or text, then --set and --out.
-Config config_of(const RunOptions& options) {
-  Config config = options.config_path.empty()
-                      ? Config::parse(options.config_text, options.config_source)
-                      : Config::load(options.config_path);
-  for (const auto& s : options.sets) config.set(s);
+// The configuration as its source gives it: its file or text, then --set and --out.
+Config config_of(const SpecSource& source) {
+  Config config = source.config_path.empty()
+                      ? Config::parse(source.config_text, source.config_source)
+                      : Config::load(source.config_path);
+  for (const auto& s : source.sets) config.set(s);
   // A shard's --out names its own file: the configuration keeps the whole run's output, which
   // every shard of the run must share.
-  if (!options.out.empty() && options.shard.empty()) config.set("output.file=" + options.out);
+  if (!source.out.empty() && source.shard.empty()) config.set("output.file=" + source.out);
   return config;
 }
 
 // The run of `config` from these initial conditions, with what it records of them.
 RunPoint point_of(const Config& config, std::unique_ptr<Model> model, InitialConditions initial,
-                  const RunOptions& options, const std::string& started) {
-  Run r = run_of(config, std::move(model), initial.orbits(), options);
+                  const SpecSource& source, const std::string& started) {
+  Run r = run_of(config, std::move(model), initial.orbits(), source);
   r.kind = initial.kind();
   r.rejects_points = initial.generator().rejects_points();
   r.description = initial.description();
   r.seed = initial.seed();
-  r.command_line = options.command_line;
   r.started = started;
   return {std::move(initial), std::move(r)};
 }
 
-InitialConditions initial_of(const Config& config, const Model& model, const RunOptions& options) {
-  return options.points ? InitialConditions::of_points(config, options.points)
+InitialConditions initial_of(const Config& config, const Model& model, const SpecSource& source) {
+  return source.points ? InitialConditions::of_points(config, source.points)
                         : InitialConditions::from_config(config, model, stop_on_signal);
 }
 
@@ -63,7 +62,7 @@ void check_memory(const RunSpec& spec, const Run& first,
 // A sweep's points: first every point's map and initial conditions (which fix its orbits), then
 // the first point's run, from which the whole sweep's memory is known before the others are made.
 // A map that degenerates at a point is refused here, naming the point.
-void read_points(RunSpec& spec, const RunOptions& options) {
+void read_points(RunSpec& spec, const SpecSource& source) {
   const Sweep& sweep = *spec.sweep;
   std::vector<std::unique_ptr<Model>> models;
   std::vector<InitialConditions> starts;
@@ -72,7 +71,7 @@ void read_points(RunSpec& spec, const RunOptions& options) {
     Config point = sweep.config_of(spec.config, k);
     try {  // the point's own map and, for a shell, its own energy surface
       models.push_back(map_of(point, chaos_options_of(point)));
-      starts.push_back(initial_of(point, *models.back(), options));
+      starts.push_back(initial_of(point, *models.back(), source));
     } catch (const Error& e) {
       throw Error(e.code(), "[[sweep]] " + sweep.label(k) + ": " + e.what());
     }
@@ -82,7 +81,7 @@ void read_points(RunSpec& spec, const RunOptions& options) {
   for (const auto& s : starts) orbits.push_back(s.orbits());
   for (std::size_t k = 0; k < sweep.points(); ++k) {
     Config point = k == 0 ? std::move(*first_point) : sweep.config_of(spec.config, k);
-    RunPoint p = point_of(point, std::move(models[k]), std::move(starts[k]), options, spec.started);
+    RunPoint p = point_of(point, std::move(models[k]), std::move(starts[k]), source, spec.started);
     if (p.run.checkpoint_every > 0)
       throw usage_error(point.where("run", "checkpoint_every") +
                         ": a sweep keeps no checkpoint (it runs to the end or stops with nothing "
@@ -97,28 +96,28 @@ void read_points(RunSpec& spec, const RunOptions& options) {
 
 }  // namespace
 
-RunSpec read_spec(const RunOptions& options) {
-  if (options.config_path.empty() && options.config_source.empty())
+RunSpec read_spec(const SpecSource& source) {
+  if (source.config_path.empty() && source.config_source.empty())
     throw usage_error("qmaps run needs a config file, or --resume <output>.ckpt");
   RunSpec spec;
   spec.started = ranks::from_root(utc_now());
   on_every_rank([&] {
-    spec.config = config_of(options);
-    if (!options.shard.empty() && ranks::count() > 1)
+    spec.config = config_of(source);
+    if (!source.shard.empty() && ranks::count() > 1)
       throw usage_error("--shard splits a run into processes of their own; under mpirun the "
                         "ranks split it");
     auto model = map_of(spec.config, chaos_options_of(spec.config));
     spec.sweep = Sweep::from_config(spec.config, *model);
     if (spec.sweep) {
-      if (!options.shard.empty())
+      if (!source.shard.empty())
         throw usage_error("--shard splits a run's orbits, not a sweep's points");
       if (ranks::count() > 1)
         throw usage_error("a sweep runs in one process: run it with qmaps, not under mpirun");
-      return read_points(spec, options);
+      return read_points(spec, source);
     }
-    InitialConditions initial = initial_of(spec.config, *model, options);
+    InitialConditions initial = initial_of(spec.config, *model, source);
     spec.points.push_back(
-        point_of(spec.config, std::move(model), std::move(initial), options, spec.started));
+        point_of(spec.config, std::move(model), std::move(initial), source, spec.started));
     spec.config.reject_unknown();
     if (ranks::count() > 1) h5::AtomicFile::check_writable(spec.points.front().run.path);
   });

@@ -33,14 +33,14 @@ struct RunSpec {
   bool ran = false;              // a spec runs once: its observers fill
 };
 
-// The spec of the run that options describe: the configuration (its file, or its text), --set,
+// The spec of the run its source describes: the configuration (its file, or its text), --set,
 // --out, --shard and an in-process caller's points; --threads and --simd choose its path. Over
 // the ranks of qmaps-mpi every rank reads it, and all fail alike.
-RunSpec read_spec(const RunOptions& options);
+RunSpec read_spec(const SpecSource& source);
 
-// Runs it: a sweep's points, or the run's segments, checkpoints and file, as options' session
-// asks (progress, quiet, what a signal leaves, the command line recorded).
-int run_spec(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+// Runs it: a sweep's points, or the run's segments, checkpoints and file, as the session asks
+// (progress, quiet, what a signal leaves, the command line recorded).
+int run_spec(RunSpec& spec, const SessionOptions& session, const InterruptGuard& interrupt,
              std::ostream& log);
 
 }  // namespace qmaps

@@ -23,7 +23,7 @@
 
 namespace qmaps {
 
-int run_sweep(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+int run_sweep(RunSpec& spec, const SessionOptions& session, const InterruptGuard& interrupt,
               std::ostream& log) {
   const Sweep& sweep = *spec.sweep;
   const std::string& started = spec.started;
@@ -59,11 +59,11 @@ int run_sweep(RunSpec& spec, const RunOptions& options, const InterruptGuard& in
   // All points step together in segments (ensembles/program/segments.hpp).
   const RunPlan plan = first.plan;
   const Execution x = first.x;
-  Progress progress(!options.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
+  Progress progress(!session.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
   std::vector<Observers> blanks;
   for (const auto& p : spec.points) blanks.push_back(p.run.observers.empty_copy());
   const SegmentLoop segments{plan, SegmentLoop::sweep_aim, 0, progress, interrupt,
-                             options.on_segment};
+                             session.on_segment};
   const int signal = segments.run(
       0,
       [&](const RunPlan& segment) {
@@ -91,7 +91,7 @@ int run_sweep(RunSpec& spec, const RunOptions& options, const InterruptGuard& in
   std::vector<RunRecord> records;
   for (std::size_t k = 0; k < points; ++k) {
     runs(k).observers.finish();
-    records.push_back(record_of(runs(k), ensembles[k], 0, started, finished, options.command_line));
+    records.push_back(record_of(runs(k), ensembles[k], 0, started, finished, session.command_line));
   }
   naming_failures(first.path, [&] {
     write_sweep(file.root(), sweep, records);

@@ -14,7 +14,7 @@
 namespace qmaps {
 
 // The sweep of `spec` (read_spec: every point's run set up and checked).
-int run_sweep(RunSpec& spec, const RunOptions& options, const InterruptGuard& interrupt,
+int run_sweep(RunSpec& spec, const SessionOptions& session, const InterruptGuard& interrupt,
               std::ostream& log);
 
 }  // namespace qmaps

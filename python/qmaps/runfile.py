@@ -174,6 +174,21 @@ class Run(Group):
         """The Histogram of /histograms/<name> (counts, edges, axes, under- and overflow)."""
         return Histogram.of(self["histograms/" + name])
 
+    def histograms(self):
+        """Every histogram of the file, whichever observer wrote it, by its group's path:
+        {"histograms/q1q2": ..., "invariants/H/drift_histogram": ..., "sections/q1up": ...,
+        "chaos/histograms/megno": ...}. A section's is its density of crossings."""
+        found = {}
+
+        def visit(group):
+            for counts in ("counts", "density"):
+                if counts in group.datasets and "x_edges" in group.datasets:
+                    found[group.path.strip("/")] = Histogram.of(group, counts)
+            for child in group.groups.values():
+                visit(child)
+        visit(self)
+        return found
+
     def dataset(self, path):
         """The h5py dataset at `path` ("sections/q1up/x"): its slices read only what they ask."""
         group, _, name = path.strip("/").rpartition("/")
