@@ -1,5 +1,4 @@
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
@@ -19,8 +18,8 @@
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/interrupt.hpp"
-#include "ensembles/program/progress.hpp"
 #include "ensembles/program/segments.hpp"
+#include "ensembles/program/session.hpp"
 #include "ensembles/program/every_rank.hpp"
 #include "ensembles/program/run_setup.hpp"
 #include "ensembles/program/run_spec.hpp"
@@ -105,45 +104,29 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   const auto save = [&] { save_from(initial ? &*initial : nullptr); };
 
   const std::size_t orbits = r.shard ? r.orbits : r.total;  // the file's
-  Progress progress(!session.quiet && ranks::root() && isatty(STDERR_FILENO), log, orbits, first,
-                    r.plan.total);
-  // Each segment samples into empty observers, merged into the run's: the points so far are
-  // neither copied nor sorted per segment, only before they are written (finish()).
-  const Observers blank = r.observers.empty_copy();
-  const SegmentLoop segments{r.plan,   SegmentLoop::run_aim, r.checkpoint_every,
-                             progress, interrupt,            session.on_segment};
-  const int signal = segments.run(
-      e.step,
-      [&](const RunPlan& segment) {
-        Observers part = blank.empty_copy();
-        r.model->advance(e, segment, r.x, r.observers.empty() ? nullptr : &part);
-        r.observers.merge(std::move(part));
-      },
-      [&](long long step) {
-        if (r.checkpoint_every > 0 && step % r.checkpoint_every == 0) save();
-      });
+  const SessionPart part{r, e};
+  const auto [signal, seconds] =
+      step_session(std::span(&part, 1), SegmentLoop::run_aim, r.checkpoint_every, orbits, session,
+                   interrupt, log, [&](long long step) {
+                     if (r.checkpoint_every > 0 && step % r.checkpoint_every == 0) save();
+                   });
   if (signal != 0) {
     // Stopped, the run writes no output: its temporary goes at once, before the checkpoint, so
     // that a kill in what remains (mpirun's SIGKILL, 1 s after it passed SIGTERM on to the
     // ranks) leaves none behind.
     output.discard();
     if (!session.checkpoint_on_interrupt) {
-      progress.end();
       log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
           << r.plan.total << ": stopped, nothing written\n";
       return static_cast<int>(ExitCode::interrupted);
     }
     save();
-    progress.end();
     if (ranks::root())
       log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of " << r.plan.total
           << ": checkpoint written to " << checkpoint
           << "; continue with: qmaps run --resume " << checkpoint << '\n';
     return static_cast<int>(ExitCode::interrupted);
   }
-  progress.end();
-  const double seconds = progress.seconds();
-
   const auto writing_began = std::chrono::steady_clock::now();
   r.observers.finish();
   const auto write = [&] {
@@ -173,22 +156,8 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
   const auto rejected = ranks::sum(static_cast<std::int64_t>(r.rejected));
   if (!ranks::root()) return 0;
 
-  const double rate = static_cast<double>(orbits) * static_cast<double>(r.plan.total - first) /
-                      (stepping > 0 ? stepping : 1e-300);
-  const int n = ranks::count();
-  const std::string workers = (n > 1 ? std::to_string(n) + " ranks x " : std::string()) +
-                              std::to_string(r.x.threads) + " thread" +
-                              (r.x.threads == 1 ? "" : "s") + (n > 1 ? " each" : "");
+  log << summary_line(r, 0, orbits, r.plan.total - first, stepping, escaped, rejected);
   char line[512];
-  std::snprintf(line, sizeof line,
-                "qmaps: %s, %zu orbits x %lld steps in %.3f s (%.3g particle-steps/s, %s, %s), "
-                "%lld escaped%s -> %s\n",
-                std::string(r.model->name()).c_str(), orbits, r.plan.total - first, stepping,
-                rate, std::string(isa_name(r.x.isa)).c_str(), workers.c_str(),
-                static_cast<long long>(escaped),
-                r.rejects_points ? (", " + std::to_string(rejected) + " rejected").c_str() : "",
-                r.path.c_str());
-  log << line;
   std::snprintf(line, sizeof line,
                 "qmaps: time by phase: starting %.3f s, stepping and observing %.3f s, writing "
                 "%.3f s\n",

@@ -1,8 +1,6 @@
 #include "ensembles/program/sweep_run.hpp"
 
-#include <unistd.h>
 
-#include <cstdio>
 #include <optional>
 #include <ostream>
 #include <vector>
@@ -10,16 +8,14 @@
 #include "core/error.hpp"
 #include "ensembles/io/h5.hpp"
 #include "core/memory_limit.hpp"
-#include "core/runner.hpp"
 #include "core/thread_limit.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/io/sweep_output.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
 #include "ensembles/program/interrupt.hpp"
-#include "ensembles/program/progress.hpp"
 #include "ensembles/program/run_setup.hpp"
-#include "ensembles/program/segments.hpp"
+#include "ensembles/program/session.hpp"
 
 namespace qmaps {
 
@@ -56,37 +52,17 @@ int run_sweep(RunSpec& spec, const SessionOptions& session, const InterruptGuard
     orbits += r.orbits;
   }
 
-  // All points step together in segments (ensembles/program/segments.hpp).
+  // All points step together in one session (ensembles/program/session.hpp).
   const RunPlan plan = first.plan;
-  const Execution x = first.x;
-  Progress progress(!session.quiet && isatty(STDERR_FILENO), log, orbits, 0, plan.total);
-  std::vector<Observers> blanks;
-  for (const auto& p : spec.points) blanks.push_back(p.run.observers.empty_copy());
-  const SegmentLoop segments{plan, SegmentLoop::sweep_aim, 0, progress, interrupt,
-                             session.on_segment};
-  const int signal = segments.run(
-      0,
-      [&](const RunPlan& segment) {
-        std::vector<Observers> parts;
-        std::vector<RunPart> work;
-        for (std::size_t k = 0; k < points; ++k) parts.push_back(blanks[k].empty_copy());
-        for (std::size_t k = 0; k < points; ++k)
-          work.push_back({runs(k).model.get(), &ensembles[k],
-                          runs(k).observers.empty() ? nullptr : &parts[k]});
-        advance_parts(work, segment, x);
-        for (std::size_t k = 0; k < points; ++k)
-          if (!runs(k).observers.empty()) runs(k).observers.merge(std::move(parts[k]));
-      },
-      [](long long) {});
+  std::vector<SessionPart> parts;
+  for (std::size_t k = 0; k < points; ++k) parts.push_back({runs(k), ensembles[k]});
+  const auto [signal, seconds] =
+      step_session(parts, SegmentLoop::sweep_aim, 0, orbits, session, interrupt, log);
   if (signal != 0) {
-    progress.end();
     log << "qmaps: " << signal_name(signal) << " at step " << ensembles.front().step << " of "
         << plan.total << ": a sweep keeps no checkpoint; stopped, nothing was written\n";
     return static_cast<int>(ExitCode::interrupted);
   }
-  progress.end();
-  const double seconds = progress.seconds();
-
   const std::string finished = utc_now();
   std::vector<RunRecord> records;
   for (std::size_t k = 0; k < points; ++k) {
@@ -99,20 +75,10 @@ int run_sweep(RunSpec& spec, const SessionOptions& session, const InterruptGuard
   });
   output.commit();
 
-  std::size_t escaped = 0;
-  for (const auto& e : ensembles) escaped += e.escaped();
-  const double rate = static_cast<double>(orbits) * static_cast<double>(plan.total) /
-                      (seconds > 0 ? seconds : 1e-300);
-  char line[512];
-  std::snprintf(line, sizeof line,
-                "qmaps: %s, sweep of %zu points, %zu orbits x %lld steps in %.3f s (%.3g "
-                "particle-steps/s, %s, %d thread%s), %zu escaped%s -> %s\n",
-                std::string(first.model->name()).c_str(), points, orbits, plan.total, seconds,
-                rate, std::string(isa_name(x.isa)).c_str(), x.threads, x.threads == 1 ? "" : "s",
-                escaped,
-                first.rejects_points ? (", " + std::to_string(rejected) + " rejected").c_str() : "",
-                first.path.c_str());
-  log << line;
+  long long escaped = 0;
+  for (const auto& e : ensembles) escaped += static_cast<long long>(e.escaped());
+  log << summary_line(first, points, orbits, plan.total, seconds, escaped,
+                      static_cast<long long>(rejected));
   return 0;
 }
 
