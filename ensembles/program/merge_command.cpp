@@ -16,7 +16,6 @@
 #include "ensembles/io/h5.hpp"
 #include "core/memory_limit.hpp"
 #include "ensembles/config/config.hpp"
-#include "ensembles/config/map_config.hpp"
 #include "ensembles/config/observer_config.hpp"
 #include "ensembles/config/shard.hpp"
 #include "ensembles/io/checkpoint.hpp"
@@ -25,6 +24,7 @@
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/program/commands.hpp"
 #include "ensembles/program/run_setup.hpp"
+#include "ensembles/program/run_spec.hpp"
 
 namespace qmaps {
 namespace {
@@ -131,15 +131,16 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   check_output_name(options.out, "--out");
   refuse_an_input_as_output(options);
   std::vector<ShardFile> shards = shard_set(options.shards);
-  const Config config =
-      Config::parse(shards.front().config_resolved, shards.front().path + " (config_resolved)");
   const auto total = shards.front().orbits_total;
   if (total <= 0) throw Error(ExitCode::io, "'" + shards.front().path + "': attribute orbits_total is " + std::to_string(total));
   const auto orbits = static_cast<std::size_t>(total);
   SpecSource whole;
   whole.threads = 1;
   whole.simd = "scalar";
-  Run r = run_of(config, map_of(config, chaos_options_of(config)), orbits, whole);
+  RunSpec spec = read_recorded_spec(shards.front().config_resolved,
+                                    shards.front().path + " (config_resolved)", orbits, whole);
+  const Config& config = spec.config;
+  Run& r = spec.points.front().run;
   std::size_t largest = 0;
   for (const auto& s : shards) largest = std::max(largest, s.shard.size(orbits));
   check_memory(r, orbits, largest);

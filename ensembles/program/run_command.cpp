@@ -9,8 +9,6 @@
 #include "ensembles/io/h5.hpp"
 #include "ensembles/io/ranks.hpp"
 #include "ensembles/config/config.hpp"
-#include "ensembles/config/map_config.hpp"
-#include "ensembles/config/sweep_config.hpp"
 #include "ensembles/io/checkpoint.hpp"
 #include "ensembles/io/output.hpp"
 #include "ensembles/io/output_lock.hpp"
@@ -209,7 +207,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
     throw usage_error("--resume " + path + ": a checkpoint is named <output>" + suffix);
 
   std::optional<h5::File> checkpoint;
-  std::optional<Run> run;
+  std::optional<RunSpec> spec;
   const auto reading = [&](auto read) {
     try {
       read();
@@ -222,8 +220,6 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
     checkpoint = open_checkpoint(path);
     const auto root = checkpoint->root();
     reading([&] {
-      const Config config =
-          Config::parse(root.attr_string("config_resolved"), path + " (config_resolved)");
       // A shard's checkpoint resumes the shard: its range of the ensemble's orbits.
       SpecSource resumed = options.source;
       const bool shard = root.has_attr("shard");
@@ -232,9 +228,9 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       if (shard) resumed.shard = root.attr_string("shard");
       const auto orbits = root.attr_int64(shard ? "orbits_total" : "orbits");
       if (orbits <= 0) throw Error(ExitCode::io, "attribute orbits is " + std::to_string(orbits));
-      run.emplace(run_of(config, map_of(config, chaos_options_of(config)),
-                         static_cast<std::size_t>(orbits), resumed));
-      Run& r = *run;
+      spec = read_recorded_spec(root.attr_string("config_resolved"), path + " (config_resolved)",
+                                static_cast<std::size_t>(orbits), resumed);
+      Run& r = spec->points.front().run;
       if (r.shard && static_cast<std::int64_t>(r.orbits) != root.attr_int64("orbits"))
         throw Error(ExitCode::io, "attribute orbits is " + std::to_string(root.attr_int64("orbits")) +
                                       "; shard " + r.shard->name() + " has " + std::to_string(r.orbits));
@@ -247,7 +243,7 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
       r.sessions = root.attr_string("sessions");
     });
   });
-  Run& r = *run;
+  Run& r = spec->points.front().run;
   const auto root = checkpoint->root();
   std::optional<OutputLock> lock;  // first: a second run to this output is refused
   on_every_rank([&] {
@@ -293,7 +289,7 @@ int run_spec(RunSpec& spec, const SessionOptions& session, const InterruptGuard&
   spec.ran = true;
   for (RunPoint& p : spec.points) p.run.command_line = session.command_line;  // the run's first
   if (spec.sweep) return run_sweep(spec, session, interrupt, log);
-  const InitialConditions* initial_conditions = &spec.points.front().initial;
+  const InitialConditions* initial_conditions = &*spec.points.front().initial;
   Run& r = spec.points.front().run;
   if (ranks::count() > 1) on_every_rank([&] { check_same_run(r); });
 

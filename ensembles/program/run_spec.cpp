@@ -124,4 +124,14 @@ RunSpec read_spec(const SpecSource& source) {
   return spec;
 }
 
+RunSpec read_recorded_spec(const std::string& config_resolved, const std::string& where,
+                           std::size_t orbits, const SpecSource& source) {
+  RunSpec spec;
+  spec.config = Config::parse(config_resolved, where);
+  spec.points.push_back(
+      {std::nullopt, run_of(spec.config, map_of(spec.config, chaos_options_of(spec.config)),
+                            orbits, source)});
+  return spec;
+}
+
 }  // namespace qmaps

@@ -4,7 +4,8 @@
 // ensemble's initial conditions and the run (plan, path, execution, lane measurements,
 // observers, output). Every key is read here, and one that no reader asked for is refused here,
 // with its line. qmaps run, qmaps-mpi and the Python module read a spec, then run its session
-// (run_spec, in run_command.cpp); a checkpoint's run is read from its own configuration.
+// (run_spec, in run_command.cpp); a checkpoint's run, and shards', from the configuration their
+// files record (read_recorded_spec).
 #include <iosfwd>
 #include <optional>
 #include <string>
@@ -19,9 +20,10 @@
 
 namespace qmaps {
 
-// One run of a spec: its orbits' starting points and the run itself.
+// One run of a spec: its orbits' starting points (none for a run already begun: its file holds
+// them) and the run itself.
 struct RunPoint {
-  InitialConditions initial;
+  std::optional<InitialConditions> initial;
   Run run;
 };
 
@@ -37,6 +39,13 @@ struct RunSpec {
 // --out, --shard and an in-process caller's points; --threads and --simd choose its path. Over
 // the ranks of qmaps-mpi every rank reads it, and all fail alike.
 RunSpec read_spec(const SpecSource& source);
+
+// The spec of a run already begun (a checkpoint's, or the shards' that qmaps merge joins), from
+// the configuration its file records (`where` names it in messages): its run of `orbits` orbits
+// on the path `source` asks, whose shard, if any, it names. Its initial conditions are not made
+// again, so the keys of its ensemble are not read.
+RunSpec read_recorded_spec(const std::string& config_resolved, const std::string& where,
+                           std::size_t orbits, const SpecSource& source);
 
 // Runs it: a sweep's points, or the run's segments, checkpoints and file, as the session asks
 // (progress, quiet, what a signal leaves, the command line recorded).

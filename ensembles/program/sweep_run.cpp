@@ -41,7 +41,7 @@ int run_sweep(RunSpec& spec, const SessionOptions& session, const InterruptGuard
     const auto initial =
         r.per_orbit ? std::optional(groups[k].create_group("initial")) : std::nullopt;
     if (initial) create_phase(*initial, r.orbits);
-    r.rejected = spec.points[k].initial.start(
+    r.rejected = spec.points[k].initial->start(
         *r.model, e, r.start, r.plan.escape_bound,
         [&](std::size_t from, std::span<const Phase> at) {
           if (initial) write_phase_part(*initial, from, at);
