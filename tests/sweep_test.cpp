@@ -3,6 +3,7 @@
 // thread count.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -12,7 +13,9 @@
 #include "core/error.hpp"
 #include "core/runner.hpp"
 #include "ensemble_fixtures.hpp"
+#include "fixtures.hpp"
 #include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "ensembles/config/observer_config.hpp"
 #include "ensembles/config/sweep_config.hpp"
 #include "isas_run.hpp"
@@ -21,21 +24,12 @@
 namespace qmaps {
 namespace {
 
-const char* flow_map = R"([map]
-name = "flow"
-A = 0.5
-B = 2.0
-alpha = 0.5
-beta = 4.0
-delta = 3.0
-h = 0.02
-order = 6
-)";
+// A flow run over a shell (tests/fixtures, shared with tests/sweep_test.py): the sweeps' base.
+const std::string flow_base = testing::fixture("flow-shell-chaos.toml");
 
 Sweep sweep_of(const std::string& text) {
   const Config config = Config::parse(text, "sweep.toml");
-  const auto model = make_model("flow", {{"A", 0.5}, {"B", 2.0}, {"alpha", 0.5}, {"beta", 4.0},
-                                         {"delta", 3.0}, {"h", 0.02}, {"order", 6}});
+  const auto model = map_of(config);
   const auto sweep = Sweep::from_config(config, *model);
   if (!sweep) throw std::runtime_error("no sweep");
   return *sweep;
@@ -54,7 +48,7 @@ std::string refusal(const std::string& text) {
 }
 
 TEST(SweepAxes, LinearGridsHitTheirIntegerNodesExactly) {
-  const Sweep s = sweep_of(std::string(flow_map) + R"(
+  const Sweep s = sweep_of(flow_base + R"(
 [[sweep]]
 parameter = "beta/alpha"
 from = 1
@@ -76,13 +70,13 @@ values = [0, 2, 6, 12]
   EXPECT_EQ(p[3], 4.0);  // flow's parameters: A, B, alpha, beta, delta, h, order
   EXPECT_EQ(p[4], 3.0);
   EXPECT_EQ(s.label(30), "point 30 (beta/alpha = 8, delta/alpha = 6)");
-  const Config point = s.config_of(Config::parse(std::string(flow_map), "base"), 30);
+  const Config point = s.config_of(Config::parse(flow_base, "base"), 30);
   EXPECT_EQ(point.number("map", "beta"), 4.0);
   EXPECT_EQ(point.number("map", "delta"), 3.0);
 }
 
 TEST(SweepAxes, LogGridsEndExactlyAndRatiosUseTheOtherAxis) {
-  const Sweep s = sweep_of(std::string(flow_map) + R"(
+  const Sweep s = sweep_of(flow_base + R"(
 [[sweep]]
 parameter = "alpha"
 from = 0.01
@@ -103,9 +97,10 @@ values = [2]
 }
 
 TEST(SweepAxes, BadSweepsAreRefusedWithTheirTableAndKey) {
-  const std::string m = flow_map;
+  const std::string m = flow_base;
+  const std::string parameter_line = std::to_string(std::ranges::count(m, '\n') + 2);
   EXPECT_TRUE(testing::Contains(refusal(m + "[[sweep]]\nparameter = \"gamma\"\nvalues = [1]\n"),
-                                "sweep.toml:11: [sweep[0]] parameter: flow has no parameter 'gamma' (it has A, B, alpha, "
+                                "sweep.toml:" + parameter_line + ": [sweep[0]] parameter: flow has no parameter 'gamma' (it has A, B, alpha, "
                                 "beta, delta, h, order)"));
   EXPECT_TRUE(testing::Contains(
       refusal(m + "[[sweep]]\nparameter = \"beta/gamma\"\nvalues = [1]\n"), "no parameter 'gamma'"));

@@ -17,55 +17,7 @@ import numpy as np
 
 import small_run
 
-BASE = """
-[map]
-name = "flow"
-A = 0.5
-B = 2.0
-alpha = 0.5
-beta = 4.0
-delta = 3.0
-h = 0.05
-order = 6
-
-[ensemble]
-kind = "shell"
-energy = 0.6
-orbits = 37
-seed = 3
-q1 = [-1.2, 1.2]
-q2 = [-0.7, 0.7]
-p1 = [-1.2, 1.2]
-
-[run]
-steps = 300
-stride = 7
-
-[chaos]
-
-[output]
-file = "out.h5"
-
-[[histogram]]
-name = "q1q2"
-x = "q1"
-y = "q2"
-x_range = [-1.2, 1.2]
-y_range = [-0.7, 0.7]
-bins = [16, 16]
-
-[[section]]
-name = "q1up"
-plane = "q1"
-value = 0.0
-direction = "+"
-x = "q2"
-y = "p2"
-cap = 5
-x_range = [-0.7, 0.7]
-y_range = [-1.2, 1.2]
-bins = [8, 8]
-"""
+BASE = small_run.fixture("flow-shell-chaos.toml")
 
 AXES = """
 [[sweep]]
