@@ -144,9 +144,53 @@ void restore_events(const h5::Group& g, SectionPoints& kept, Rows orbits) {
     throw bad(g, "its points are not spread over the orbits as kept says");
 }
 
+// The rows of a checkpoint's series, at most those its orbits can give.
+void restore_series(const h5::Group& g, Trajectory& t, long long steps) {
+  const auto shape = g.shape("orbit");
+  if (shape.size() != 1) throw bad(g, "orbit is not a column");
+  const auto rows = static_cast<std::size_t>(shape[0]);
+  if (static_cast<double>(rows) > t.rows(steps))
+    throw bad(g, "it holds " + std::to_string(rows) + " rows; its orbits and steps give at most " +
+                     std::to_string(static_cast<long long>(t.rows(steps))));
+  t.orbit = g.read_int64("orbit", rows);
+  t.step = g.read_int64("step", rows);
+  t.values.clear();
+  for (const auto& name : t.columns) t.values.push_back(g.read_doubles(name, rows));
+}
+
+// Appends the rows of `part` (of its orbits, numbered from 0) as orbits first + o, then orders
+// every row orbit by orbit as `whole` lists its orbits, each orbit's in step order.
+void add_series(Trajectory& whole, const Trajectory& part, std::size_t first, const std::string& where) {
+  whole.values.resize(whole.columns.size());
+  for (std::size_t row = 0; row < part.orbit.size(); ++row) {
+    const auto o = part.orbit[row];
+    if (o < 0 || std::ranges::find(part.orbits, static_cast<std::size_t>(o)) == part.orbits.end())
+      throw Error(ExitCode::io, where + " has a row of orbit " + std::to_string(o) +
+                                    ", not one of the orbits it records");
+    whole.orbit.push_back(static_cast<std::int64_t>(first) + o);
+    whole.step.push_back(part.step[row]);
+    for (std::size_t c = 0; c < whole.columns.size(); ++c) whole.values[c].push_back(part.values[c][row]);
+  }
+  std::map<std::int64_t, std::size_t> place;
+  for (std::size_t k = 0; k < whole.orbits.size(); ++k)
+    place[static_cast<std::int64_t>(whole.orbits[k])] = k;
+  std::vector<std::size_t> order(whole.orbit.size());
+  for (std::size_t r = 0; r < order.size(); ++r) order[r] = r;
+  std::ranges::stable_sort(order, {}, [&](std::size_t r) { return place.at(whole.orbit[r]); });
+  const auto reorder = [&](auto& column) {
+    auto sorted = column;
+    for (std::size_t r = 0; r < order.size(); ++r) sorted[r] = column[order[r]];
+    column = std::move(sorted);
+  };
+  reorder(whole.orbit);
+  reorder(whole.step);
+  for (auto& column : whole.values) reorder(column);
+}
+
 void check_aligned(const MeasuredOutput& whole, const MeasuredOutput& part) {
   if (whole.histograms.size() != part.histograms.size() ||
-      whole.attributes.size() != part.attributes.size() || whole.events.size() != part.events.size())
+      whole.attributes.size() != part.attributes.size() || whole.events.size() != part.events.size() ||
+      whole.series.size() != part.series.size())
     throw std::logic_error("add_part: the part is described otherwise than the whole");
 }
 
@@ -160,6 +204,13 @@ void write_output(const h5::Group& root, const MeasuredOutput& out, Rows rows, b
   }
   for (const auto& d : out.distributions) write_distribution(root, d);
   for (const auto& e : out.events) write_events(root.group_at(e.group), *e.points, rows);
+  for (const auto& s : out.series) {
+    const auto g = root.group_at(s.group);
+    const Trajectory& t = *s.rows;
+    g.write("orbit", t.orbit);
+    g.write("step", t.step);
+    for (std::size_t k = 0; k < t.columns.size(); ++k) g.write(t.columns[k], t.values[k]);
+  }
   if (per_orbit)
     for (const auto& c : out.columns) {
       const auto [group, name] = dataset_at(root, c.path, true);
@@ -214,6 +265,8 @@ void restore_kept(const h5::Group& root, MeasuredOutput& out, Rows rows) {
   }
   for (auto& e : out.events)
     restore_events(root.open_group(e.group), *e.points, rows.or_all(e.points->kept().size()));
+  for (auto& s : out.series)
+    if (counts_here) restore_series(root.open_group(s.group), *s.rows, s.steps);
 }
 
 void add_part(MeasuredOutput& whole, const MeasuredOutput& part, std::size_t first_orbit) {
@@ -222,6 +275,8 @@ void add_part(MeasuredOutput& whole, const MeasuredOutput& part, std::size_t fir
     if (whole.histograms[k].kept) whole.histograms[k].histogram->merge(*part.histograms[k].histogram);
   for (std::size_t k = 0; k < whole.attributes.size(); ++k)
     if (whole.attributes[k].kept) *whole.attributes[k].kept += *part.attributes[k].kept;
+  for (std::size_t k = 0; k < whole.series.size(); ++k)
+    add_series(*whole.series[k].rows, *part.series[k].rows, first_orbit, "/" + part.series[k].group);
   for (std::size_t k = 0; k < whole.events.size(); ++k) {
     const SectionPoints& from = *part.events[k].points;
     SectionPoints& to = *whole.events[k].points;

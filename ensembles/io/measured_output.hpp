@@ -1,13 +1,14 @@
 #pragma once
 // What a run observer leaves in a run's file (docs/hdf5-schema.md), described once: histograms,
-// attributes, per-orbit columns and events (a section's points), each at its path from the
-// file's root. One writer, one checkpoint writer and reader, and one merge serve every
+// attributes, per-orbit columns, events (a section's points) and series (a trajectory's rows),
+// each at its path from the file's root. One writer, one checkpoint writer and reader, and one merge serve every
 // observer through this description:
 //   write_output   the file of a run or a checkpoint, each rank its rows, the rest over ranks:
 //                  histograms added, counts summed, distributions over every rank's values;
 //   write_kept     what a checkpoint or a shard keeps besides (the events' counts per orbit);
 //   restore_kept   a checkpoint's kept output read back into the run's state;
 //   add_part       a shard's kept output added to the whole run's (qmaps merge).
+// Over the ranks of qmaps-mpi each rank describes its own orbits, alike.
 // Kept items point at the state a run accumulates while it steps (its Observers); the rest are
 // computed from the orbits when the file is written, and a merge computes them again.
 #include <cstdint>
@@ -18,6 +19,7 @@
 
 #include "core/observers/histogram.hpp"
 #include "core/observers/section/section_points.hpp"
+#include "core/observers/trajectory/trajectory.hpp"
 #include "ensembles/io/h5.hpp"
 #include "ensembles/io/output.hpp"
 
@@ -62,11 +64,21 @@ struct MeasuredOutput {
     SectionPoints* points;
   };
 
+  // The rows of chosen orbits (a trajectory's): orbit, step and the named columns at `group`, as
+  // rank 0 has them, orbit by orbit in the orbits' configured order; at most the rows they can
+  // give over `steps` steps.
+  struct Series {
+    std::string group;
+    Trajectory* rows;
+    long long steps;
+  };
+
   std::vector<Attribute> attributes;
   std::vector<HistogramAt> histograms;
   std::vector<Distribution> distributions;
   std::vector<Column> columns;
   std::vector<Events> events;
+  std::vector<Series> series;
 
   // A histogram computed for the file, held here.
   Histogram& hold(Histogram h) { return held_.emplace_back(std::move(h)); }
@@ -82,11 +94,12 @@ struct MeasuredOutput {
 // rows and values). per_orbit: the columns are written.
 void write_output(const h5::Group& root, const MeasuredOutput& out, Rows rows, bool per_orbit);
 void write_kept(const h5::Group& root, const MeasuredOutput& out, Rows rows = {});
-// The kept items' state from the file's rows: the histograms' counts and the summed counts go to
-// rank 0 alone, so that the ranks' add up to the file's.
+// The kept items' state from the file's rows: the histograms' counts, the summed counts and the
+// series go to rank 0 alone, so that the ranks' add up to the file's.
 void restore_kept(const h5::Group& root, MeasuredOutput& out, Rows rows = {});
 // Adds the kept items of `part`, which observed orbits numbered from 0 (a shard's), to those of
-// `whole`, its events as orbits first_orbit + i: parts added in orbit order equal one run's.
+// `whole`, its events and series as orbits first_orbit + i: parts added in orbit order equal one
+// run's.
 void add_part(MeasuredOutput& whole, const MeasuredOutput& part, std::size_t first_orbit);
 
 }  // namespace qmaps

@@ -280,7 +280,6 @@ void write_run(const h5::Group& root, const RunRecord& run) {
     write_measured_columns(root, e, rows);
   }
   write_output(root, described.get(), rows, run.per_orbit);
-  if (run.trajectories) write_trajectories(root, *run.trajectories);
 
   if (!run.per_orbit) return;
   const auto escape = root.create_group("escape");

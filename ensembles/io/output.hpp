@@ -62,7 +62,7 @@ struct RunRecord {
   std::string ensemble_description{};  // what the initial conditions are, in one line
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
   ChaosReport chaos{};
-  const std::vector<Trajectory>* trajectories = nullptr;
+  std::vector<Trajectory>* trajectories = nullptr;
   // A shard's file (docs/cli.md): "k/K", and its orbits' place in the ensemble of orbits_total.
   std::string shard{};
   std::int64_t shard_first = 0, orbits_total = 0;

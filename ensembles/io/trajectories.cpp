@@ -2,7 +2,6 @@
 
 #include <array>
 
-#include "core/error.hpp"
 #include "core/execution.hpp"
 #include "kernels/catalogue.hpp"
 
@@ -76,44 +75,12 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
   for (auto& column : t.values) reorder(column);
 }
 
-void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories) {
-  if (trajectories.empty()) return;
-  const auto group = root.create_group("trajectories");
-  for (const Trajectory& t : trajectories) {
-    const auto g = group.create_group(t.name);
-    g.attr("every", static_cast<std::int64_t>(t.every));
-    g.write("orbit", t.orbit);
-    g.write("step", t.step);
-    for (std::size_t k = 0; k < t.columns.size(); ++k) g.write(t.columns[k], t.values[k]);
-  }
-}
-
 void keep_orbits_in(std::vector<Trajectory>& trajectories, std::size_t first, std::size_t count) {
   for (Trajectory& t : trajectories) {
     std::vector<std::size_t> kept;
     for (const std::size_t o : t.orbits)
       if (o >= first && o < first + count) kept.push_back(o - first);
     t.orbits = std::move(kept);
-  }
-}
-
-void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories,
-                       long long steps) {
-  if (trajectories.empty()) return;
-  const auto group = root.open_group("trajectories");
-  for (Trajectory& t : trajectories) {
-    const auto g = group.open_group(t.name);
-    const auto shape = g.shape("orbit");
-    if (shape.size() != 1) throw Error(ExitCode::io, "HDF5: " + g.path() + "/orbit is not a column");
-    const auto rows = static_cast<std::size_t>(shape[0]);
-    if (static_cast<double>(rows) > t.rows(steps))  // more than its orbits can have
-      throw Error(ExitCode::io, "HDF5: " + g.path() + " holds " + std::to_string(rows) +
-                                    " rows; its orbits and steps give at most " +
-                                    std::to_string(static_cast<long long>(t.rows(steps))));
-    t.orbit = g.read_int64("orbit", rows);
-    t.step = g.read_int64("step", rows);
-    t.values.clear();
-    for (const auto& name : t.columns) t.values.push_back(g.read_doubles(name, rows));
   }
 }
 

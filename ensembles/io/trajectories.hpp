@@ -1,13 +1,12 @@
 #pragma once
-// The trajectories' rows (core/observers/trajectory/trajectory.hpp): recorded when the run starts, by
-// stepping copies of those orbits on the scalar reference path, which every path reproduces bit
-// for bit; written under /trajectories/<name>/ (docs/hdf5-schema.md) and read from checkpoints.
+// The trajectories' rows (core/observers/trajectory/trajectory.hpp): recorded when the run
+// starts, by stepping copies of those orbits on the scalar reference path, which every path
+// reproduces bit for bit. Written, kept and merged as ensembles/io/run_observers describes them.
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "core/ensemble.hpp"
-#include "ensembles/io/h5.hpp"
 #include "core/model.hpp"
 #include "core/observers/trajectory/trajectory.hpp"
 #include "core/run_plan.hpp"
@@ -24,9 +23,5 @@ std::vector<double> trajectory_row(const Model& model, const Model& continuous, 
 void keep_orbits_in(std::vector<Trajectory>& trajectories, std::size_t first, std::size_t count);
 // Fills t's rows from the started ensemble e (at step 0), over plan.total steps.
 void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan& plan);
-void write_trajectories(const h5::Group& root, const std::vector<Trajectory>& trajectories);
-// The rows a checkpoint holds, into trajectories configured alike, over a run of `steps` steps.
-void read_trajectories(const h5::Group& root, std::vector<Trajectory>& trajectories,
-                       long long steps);
 
 }  // namespace qmaps

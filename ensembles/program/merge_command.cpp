@@ -7,7 +7,6 @@
 
 #include <algorithm>
 #include <cstdio>
-#include <map>
 #include <optional>
 #include <ostream>
 #include <vector>
@@ -158,10 +157,6 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
 
   Ensemble e = r.model->ensemble(orbits, r.measured);
   MeasuredOutput kept = describe_kept(record_of(r, e, 0, "", "", ""));  // the shards' add up here
-  // Each shard's trajectories (its orbits of each), and where each orbit's rows are.
-  std::vector<std::vector<Trajectory>> parts;
-  std::vector<std::map<std::size_t, std::pair<std::size_t, std::vector<std::size_t>>>> rows_of(
-      r.trajectories.size());
   std::string finished;
   for (const ShardFile& s : shards) {
     const h5::File file = h5::File::open_read(s.path);
@@ -177,26 +172,16 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
       if (e.step != r.plan.total)
         throw Error(ExitCode::io, "it stopped at step " + std::to_string(e.step) + " of " +
                                       std::to_string(r.plan.total));
+      // The shard's observers and trajectories (of its orbits), as its run made them.
       Observers observers = observers_from_config(config, *r.model, n, r.plan.total);
+      std::vector<Trajectory> trajectories = r.trajectories;
+      keep_orbits_in(trajectories, first, n);
       RunRecord shard_record = record_of(r, e, 0, "", "", "");
       shard_record.observers = &observers;
+      shard_record.trajectories = &trajectories;
       MeasuredOutput shard_kept = describe_kept(shard_record);
       restore_kept(root, shard_kept);
       add_part(kept, shard_kept, first);
-      std::vector<Trajectory> trajectories = r.trajectories;
-      keep_orbits_in(trajectories, first, n);
-      read_trajectories(root, trajectories, r.plan.total);
-      for (std::size_t t = 0; t < trajectories.size(); ++t)
-        for (std::size_t row = 0; row < trajectories[t].orbit.size(); ++row) {
-          const auto o = trajectories[t].orbit[row];
-          if (o < 0 || static_cast<std::size_t>(o) >= n)
-            throw Error(ExitCode::io, "/trajectories/" + trajectories[t].name + " has a row of orbit " +
-                                          std::to_string(o) + ", not one of its " + std::to_string(n));
-          auto& at = rows_of[t][first + static_cast<std::size_t>(o)];
-          at.first = parts.size();
-          at.second.push_back(row);
-        }
-      parts.push_back(std::move(trajectories));
       if (initial) {
         const auto from = root.open_group("initial");
         std::vector<Phase> points(std::min(n, orbits_per_part));
@@ -214,23 +199,6 @@ int merge_command(const MergeOptions& options, std::ostream& log) {
   e.step = r.plan.total;
   e.fill_padding();
   r.observers.finish();
-  // Each trajectory's rows orbit by orbit, in its configured order, as one run records them.
-  for (std::size_t t = 0; t < r.trajectories.size(); ++t) {
-    Trajectory& whole_t = r.trajectories[t];
-    whole_t.values.assign(whole_t.columns.size(), {});
-    for (const std::size_t o : whole_t.orbits) {
-      const auto found = rows_of[t].find(o);
-      if (found == rows_of[t].end()) continue;  // escaped at step 0: no row
-      const Trajectory& from = parts[found->second.first][t];
-      for (const std::size_t row : found->second.second) {
-        whole_t.orbit.push_back(static_cast<std::int64_t>(o));
-        whole_t.step.push_back(from.step[row]);
-        for (std::size_t c = 0; c < whole_t.columns.size(); ++c)
-          whole_t.values[c].push_back(from.values[c][row]);
-      }
-    }
-  }
-
   naming_failures(r.path, [&] {
     RunRecord record = record_of(r, e, 0, r.started, finished, r.command_line);
     record.sessions = r.sessions;  // the shards' sessions: the merge steps nothing

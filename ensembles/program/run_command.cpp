@@ -261,9 +261,8 @@ int resume_command(const RunOptions& options, const InterruptGuard& interrupt,
         throw Error(ExitCode::io, "its step " + std::to_string(e.step) + " is not in [0, " +
                                       std::to_string(r.plan.total) + "]");
       MeasuredOutput kept = describe_kept(record_of(r, e, e.step, "", "", ""));
-      restore_kept(root, kept, rows);
-      if (ranks::root()) read_trajectories(root, r.trajectories, r.plan.total);
-      else
+      restore_kept(root, kept, rows);  // the trajectories on rank 0
+      if (!ranks::root())
         for (auto& t : r.trajectories) record(t, *r.model, e, r.plan);  // of none of its orbits
       if (r.per_orbit)
         copy_phase(root.open_group("initial"), file.root().create_group("initial"),

@@ -5,9 +5,9 @@
 // steps, are listed in core/observers/lane_observers.hpp.
 //
 // An observer is a function describe_<name>(run, out) in a file of this folder and one entry
-// below, in the order of the file. `kept`: its output is accumulated while the run steps (the
-// run's Observers), so a checkpoint keeps it and a merge adds the shards'; the others are
-// computed from the orbits whenever a file is written.
+// below, in the order of the file. `kept`: its output is the run's state (accumulated while the
+// run steps, or recorded when it starts), so a checkpoint keeps it and a merge adds the
+// shards'; the others are computed from the orbits whenever a file is written.
 #include "ensembles/io/measured_output.hpp"
 #include "ensembles/io/output.hpp"
 
@@ -19,6 +19,7 @@ void describe_invariant_image(const RunRecord& run, MeasuredOutput& out);
 void describe_densities(const RunRecord& run, MeasuredOutput& out);
 void describe_sections(const RunRecord& run, MeasuredOutput& out);
 void describe_chaos(const RunRecord& run, MeasuredOutput& out);
+void describe_trajectories(const RunRecord& run, MeasuredOutput& out);
 
 struct RunObserver {
   Describe describe;
@@ -30,6 +31,7 @@ inline constexpr RunObserver run_observers[] = {
     {describe_densities, true},
     {describe_sections, true},
     {describe_chaos, false},
+    {describe_trajectories, true},
 };
 
 // The output of every observer of the run; of the kept ones alone.
