@@ -57,6 +57,21 @@ class HostileFiles(unittest.TestCase):
         name = self.altered("good.h5", "bad.h5", change)
         self.refused(qmaps(self.dir, "info", name), "'bad.h5'", *parts)
 
+    def test_info_lists_a_histogram_it_knows_no_more_of_and_passes_links_by(self):
+        def extra(f):  # a run observer's histogram that info does not name, and a dangling link
+            g = f.create_group("extra/radius")
+            g["counts"] = np.array([3, 1], dtype=np.int64)
+            g["x_edges"] = np.array([0.0, 0.5, 1.0])
+            g.attrs["x"] = np.bytes_(b"radius")
+            for k, v in (("underflow", 0), ("overflow", 0), ("samples", 4)):
+                g.attrs[k] = np.int64(v)
+            f["extra/link"] = h5py.SoftLink("/nowhere")
+        r = qmaps(self.dir, "info", self.altered("good.h5", "extra.h5", extra))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("other histograms:\n  extra/radius: 2 bins over radius, 4 samples "
+                      "(0 underflow, 0 overflow)\n", r.stdout)
+        self.assertNotIn("other histograms", qmaps(self.dir, "info", "good.h5").stdout)
+
     def from_file(self, change, *parts):
         name = self.altered("good.h5", "source.h5", change)
         config = pathlib.Path(self.dir) / "again.toml"

@@ -260,6 +260,16 @@ Group Group::group_at(const std::string& path) const {
 
 bool Group::has(const std::string& name) const { return H5Lexists(id(), name.c_str(), H5P_DEFAULT) > 0; }
 
+bool Group::has_group(const std::string& name) const {
+  H5L_info_t link{};
+  if (!has(name) || H5Lget_info(id(), name.c_str(), &link, H5P_DEFAULT) < 0 ||
+      link.type != H5L_TYPE_HARD)
+    return false;
+  H5O_info_t object{};
+  return H5Oget_info_by_name2(id(), name.c_str(), &object, H5O_INFO_BASIC, H5P_DEFAULT) >= 0 &&
+         object.type == H5O_TYPE_GROUP;
+}
+
 std::vector<std::string> Group::members() const {
   std::vector<std::string> out;
   H5Literate(

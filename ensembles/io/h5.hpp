@@ -51,6 +51,7 @@ class Group {
   // The group at a relative path "a/b/c", each group on the way that is missing created.
   Group group_at(const std::string& path) const;
   bool has(const std::string& name) const;
+  bool has_group(const std::string& name) const;  // a member that is a group (a hard link to one)
   std::vector<std::string> members() const;
   const std::string& path() const { return path_; }
 

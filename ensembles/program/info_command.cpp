@@ -2,6 +2,7 @@
 // escapes by reason, each invariant's worst and median relative drift, its histograms and
 // sections with their counts, and its chaos indicators' classes and quartiles; for a sweep, each
 // point's summary.
+#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -39,6 +40,24 @@ std::string histogram_text(const h5::Group& h, const std::string& counts) {
   return text + ", " + std::to_string(h.attr_int64("samples")) + " samples (" +
          std::to_string(h.attr_int64("underflow")) + " underflow, " +
          std::to_string(h.attr_int64("overflow")) + " overflow)";
+}
+
+// Every histogram of the file below `g` (a group with counts and x_edges) outside the groups
+// `shown` (those described above it): a run observer's that info knows no more of. Hard links
+// only, at most 8 groups deep and 10^5 groups in all: a file whose links loop ends the search.
+void other_histograms(const h5::Group& g, const std::string& path,
+                      const std::vector<std::string>& shown, std::vector<std::string>& out,
+                      std::size_t& groups_left, int depth = 0) {
+  if (depth >= 8) return;
+  for (const auto& name : g.members()) {
+    const std::string at = path.empty() ? name : path + "/" + name;
+    if (std::ranges::find(shown, at) != shown.end() || !g.has_group(name)) continue;
+    if (groups_left == 0) return;
+    --groups_left;
+    const auto child = g.open_group(name);
+    if (child.has("counts") && child.has("x_edges")) out.push_back(at);
+    else other_histograms(child, at, shown, out, groups_left, depth + 1);
+  }
 }
 
 // The points a section's group holds: its `orbit` column's length (a one-dimensional dataset).
@@ -247,6 +266,21 @@ int describe(const std::string& path, std::ostream& out) {
           << "median " << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1"))
           << " to " << g(h.attr_double("q3")) << '\n';
     }
+  }
+  std::vector<std::string> others;
+  std::size_t groups_left = 100000;
+  other_histograms(root, "",
+                   {"initial", "final", "escape", "invariants", "histograms", "sections", "chaos",
+                    "trajectories"},
+                   others, groups_left);
+  if (!others.empty()) out << "other histograms:\n";
+  for (const auto& path : others) {
+    const auto h = root.open_group(path);
+    out << "  " << path << ": " << histogram_text(h, "counts");
+    if (h.has_attr("median"))
+      out << "; median " << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1"))
+          << " to " << g(h.attr_double("q3"));
+    out << '\n';
   }
   return 0;
 }
