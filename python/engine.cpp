@@ -74,20 +74,17 @@ std::shared_ptr<Spec> read_spec(
     const std::string& write_to, int threads, const std::string& simd,
     const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& points,
     const std::string& command_line) {
-  qmaps::SpecSource source;
-  source.config_path = config_path;
-  source.config_text = config_text;
-  source.config_source = config_source;
-  source.sets = sets;
-  source.write_to = write_to;
-  source.threads = threads;
-  source.threads_given_as = "threads=";
-  source.simd = simd;
-  if (points) source.points = points_of(*points);
-  qmaps::SessionOptions session;
-  session.quiet = true;
-  session.command_line = command_line;
-  session.checkpoint_on_interrupt = false;
+  const qmaps::SpecSource source{.config_path = config_path,
+                                 .config_text = config_text,
+                                 .config_source = config_source,
+                                 .sets = sets,
+                                 .write_to = write_to,
+                                 .points = points ? points_of(*points) : nullptr,
+                                 .threads = threads,
+                                 .threads_given_as = "threads=",
+                                 .simd = simd};
+  const qmaps::SessionOptions session{
+      .quiet = true, .command_line = command_line, .checkpoint_on_interrupt = false};
   const qmaps::InterruptGuard interrupt;  // a signal stops a long draw (a shell's)
   const py::gil_scoped_release released;
   return std::make_shared<Spec>(Spec{qmaps::read_spec(source), session});
@@ -147,16 +144,15 @@ py::dict describe(const Spec& s) {
 py::tuple orbit(const std::string& map, const std::vector<std::string>& sets, const std::string& ic,
                 long long steps, long long every, const std::string& start, double escape_bound,
                 bool chaos, std::optional<double> energy) {
-  qmaps::OrbitOptions o;
-  o.map = map;
-  o.sets = sets;
-  o.ic = ic;
-  o.steps = steps;
-  o.every = every;
-  o.start = start;
-  o.escape_bound = escape_bound;
-  o.chaos = chaos;
-  o.energy = energy;
+  const qmaps::OrbitOptions o{.map = map,
+                              .sets = sets,
+                              .ic = ic,
+                              .steps = steps,
+                              .every = every,
+                              .start = start,
+                              .escape_bound = escape_bound,
+                              .chaos = chaos,
+                              .energy = energy};
   std::vector<std::string> columns;
   std::vector<double> values;
   std::string escaped;

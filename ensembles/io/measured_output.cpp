@@ -9,6 +9,7 @@
 #include "core/error.hpp"
 #include "ensembles/io/ranks.hpp"
 #include "ensembles/io/statistics.hpp"
+#include "ensembles/io/trajectories.hpp"
 
 namespace qmaps {
 namespace {
@@ -177,14 +178,7 @@ void add_series(Trajectory& whole, const Trajectory& part, std::size_t first, co
   std::vector<std::size_t> order(whole.orbit.size());
   for (std::size_t r = 0; r < order.size(); ++r) order[r] = r;
   std::ranges::stable_sort(order, {}, [&](std::size_t r) { return place.at(whole.orbit[r]); });
-  const auto reorder = [&](auto& column) {
-    auto sorted = column;
-    for (std::size_t r = 0; r < order.size(); ++r) sorted[r] = column[order[r]];
-    column = std::move(sorted);
-  };
-  reorder(whole.orbit);
-  reorder(whole.step);
-  for (auto& column : whole.values) reorder(column);
+  reorder_rows(whole, order);
 }
 
 void check_aligned(const MeasuredOutput& whole, const MeasuredOutput& part) {

@@ -65,6 +65,10 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
   // Orbit by orbit, each in step order.
   std::vector<std::size_t> order;
   for (const auto& rows : rows_of) order.insert(order.end(), rows.begin(), rows.end());
+  reorder_rows(t, order);
+}
+
+void reorder_rows(Trajectory& t, std::span<const std::size_t> order) {
   const auto reorder = [&](auto& column) {
     auto sorted = column;
     for (std::size_t r = 0; r < order.size(); ++r) sorted[r] = column[order[r]];

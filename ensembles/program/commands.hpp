@@ -15,15 +15,15 @@ namespace qmaps {
 // Where a run's spec comes from (read_spec): its configuration and overrides, and the path it
 // takes.
 struct SpecSource {
-  std::string config_path;        // the TOML file, or
-  std::string config_text;        // the configuration itself (a caller in the same process),
-  std::string config_source;      // and the name its messages give it
-  std::vector<std::string> sets;  // "section.key=value"
-  std::string out;                // overrides [output] file when not empty
-  std::string shard;              // "k/K": only orbit range k of K, into a shard file
-  std::string write_to;           // the file written, [output] file left as configured
-  std::shared_ptr<const std::vector<Phase>> points;  // the orbits' starting points, for [ensemble]
-  int threads = 0;                // 0: all the cores OpenMP offers (core/thread_limit.hpp)
+  std::string config_path{};        // the TOML file, or
+  std::string config_text{};        // the configuration itself (a caller in the same process),
+  std::string config_source{};      // and the name its messages give it
+  std::vector<std::string> sets{};  // "section.key=value"
+  std::string out{};                // overrides [output] file when not empty
+  std::string shard{};              // "k/K": only orbit range k of K, into a shard file
+  std::string write_to{};           // the file written, [output] file left as configured
+  std::shared_ptr<const std::vector<Phase>> points{};  // the orbits' starting points ([ensemble])
+  int threads = 0;                  // 0: all the cores OpenMP offers (core/thread_limit.hpp)
   std::string threads_given_as = "--threads ";  // how messages name it: "--threads 8"
   std::string simd = "auto";
 };
@@ -32,9 +32,9 @@ struct SpecSource {
 // what a signal leaves.
 struct SessionOptions {
   bool quiet = false;
-  std::string command_line;
+  std::string command_line{};
   bool checkpoint_on_interrupt = true;  // false: a signal stops the run with nothing written
-  std::function<void(long long step, long long total)> on_segment;  // after each segment
+  std::function<void(long long step, long long total)> on_segment{};  // after each segment
 };
 
 // qmaps run: a new run's source, or the checkpoint of one to continue (its path from the
