@@ -207,8 +207,8 @@ void write_output(const h5::Group& root, const MeasuredOutput& out, Rows rows, b
   }
   if (per_orbit)
     for (const auto& c : out.columns) {
-      const auto [group, name] = dataset_at(root, c.path, true);
-      std::visit([&](const auto& v) { write_rows(group, name, std::span(v), rows); }, c.values);
+      const DatasetAt at = dataset_at(root, c.path, true);
+      std::visit([&](const auto& v) { write_rows(at.group, at.name, std::span(v), rows); }, c.values);
     }
   // The summed counts in one sum over the ranks; a share is of the group's sums.
   std::vector<std::int64_t> sums;
