@@ -9,6 +9,7 @@
 #include <random>
 #include <unistd.h>
 
+#include "core/error.hpp"
 #include "ensembles/io/measured_output.hpp"
 #include "ensembles/io/statistics.hpp"
 
@@ -44,7 +45,7 @@ struct Observed {
     out.histograms.push_back({"sections/s", "density", &density, true});
     out.events.push_back({"sections/s", &points});
     out.attributes.push_back({"sections/s", "interpolated", std::int64_t{0},
-                              MeasuredOutput::Over::summed, &interpolated});
+                              MeasuredOutput::Over::summed, &interpolated, &density});
     out.attribute("sections/s", "crossings", density.samples(), MeasuredOutput::Over::summed);
     out.attribute("sections/s", "plane", std::string("q2"));
     return out;
@@ -86,6 +87,34 @@ TEST(MeasuredOutput, KeptItemsReadBackFromTheCheckpointByteForByte) {
   const auto g = file.root().open_group("sections").open_group("s");
   EXPECT_EQ(g.attr_int64("crossings"), run.density.samples());
   EXPECT_EQ(g.attr_string("plane"), "q2");
+  std::filesystem::remove(path);
+}
+
+// A count of some of a histogram's samples (a section's interpolated crossings) above all of
+// them is no run's: the checkpoint is refused, naming it.
+TEST(MeasuredOutput, AKeptCountAboveItsHistogramsSamplesIsRefused) {
+  const std::string path = temporary("measured-too-many");
+  Observed run(40, 0);
+  run.interpolated = run.density.samples() + 1;
+  {
+    auto file = h5::File::create(path);
+    MeasuredOutput out = run.described();
+    write_output(file.root(), out, {}, true);
+    write_kept(file.root(), out);
+    file.close();
+  }
+  Observed resumed(40);
+  MeasuredOutput into = resumed.described();
+  try {
+    restore_kept(h5::File::open_read(path).root(), into);
+    ADD_FAILURE() << "restored";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::io);
+    EXPECT_NE(std::string(e.what()).find("interpolated is " + std::to_string(run.interpolated) +
+                                         ", not 0 to " + std::to_string(run.density.samples())),
+              std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove(path);
 }
 

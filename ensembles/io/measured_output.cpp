@@ -254,8 +254,10 @@ void restore_kept(const h5::Group& root, MeasuredOutput& out, Rows rows) {
     const auto g = root.open_group(a.group);
     if (!g.has_attr(a.name)) throw bad(g, "it has no attribute " + a.name);
     *a.kept = g.attr_int64(a.name);
-    if (*a.kept < 0 || *a.kept > most_count)
-      throw bad(g, a.name + " is " + std::to_string(*a.kept) + ", not a count 0 to 2^53");
+    const std::int64_t most = a.of ? a.of->samples() : most_count;
+    if (*a.kept < 0 || *a.kept > most)
+      throw bad(g, a.name + " is " + std::to_string(*a.kept) + ", not 0 to " +
+                       (a.of ? std::to_string(most) + " (its histogram's samples)" : "2^53"));
   }
   for (auto& e : out.events)
     restore_events(root.open_group(e.group), *e.points, rows.or_all(e.points->kept().size()));

@@ -38,6 +38,7 @@ struct MeasuredOutput {
     Value value;
     Over over = Over::same;
     std::int64_t* kept = nullptr;  // a summed count of the run's state: restored and added
+    const Histogram* of = nullptr;  // a kept count of some of this histogram's samples: at most all
   };
   // A histogram's counts (named `counts`), edges and attributes at `group`, added over ranks.
   struct HistogramAt {

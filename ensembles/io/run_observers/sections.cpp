@@ -18,7 +18,8 @@ void describe_sections(const RunRecord& run, MeasuredOutput& out) {
                   std::string(s.direction > 0 ? "+" : s.direction < 0 ? "-" : "both"));
     out.attribute(group, "mode", std::string(section_mode_names[static_cast<std::size_t>(s.mode)]));
     if (s.mode == SectionMode::exact)
-      out.attributes.push_back({group, "interpolated", std::int64_t{0}, Over::summed, &s.interpolated});
+      out.attributes.push_back(
+          {group, "interpolated", std::int64_t{0}, Over::summed, &s.interpolated, &s.density});
     out.attribute(group, "cap", s.cap);
     out.attribute(group, "crossings", s.density.samples(), Over::summed);
   }
