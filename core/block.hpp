@@ -6,7 +6,9 @@
 // stops it, so every lane computes what the reference computes for its orbit. The samples are
 // taken inside the chunk where the test holds up to them (core/sample_schedule.hpp), observed one
 // chain per step after it to overlap the next divisions; the sections are watched through their
-// per-step hooks (core/observers/section/section_watch.hpp), chosen once per chunk outside its loop.
+// per-step hooks (core/observers/section/section_watch.hpp), chosen once per chunk outside its loop;
+// so are the steps a lane measurement records (the tunes' windows: RecordWatch), where no section
+// is watched (else those steps are taken one at a time).
 // The scalar reference path is this code at V = double, one orbit, one checked step at a time
 // (core/runner.hpp); each SIMD instantiation lives in its ISA's unit (core/simd_unit.cpp.in).
 #include <algorithm>
@@ -147,6 +149,25 @@ template <class Map, class V, int K, class Watch, class Sample>
     return step_chunk<Map, V, K>(chunk, s, watch, sample);
 }
 
+// The watch of a chunk whose steps a lane measurement records (the tunes' windows): each chain's
+// state after the chunk's step j into its record, at[k] + j records on.
+template <class Map, class V, int K>
+struct RecordWatch {
+  using State = typename Map::template State<V>;
+  using Measures = LaneObservers<Map, V>;
+  static constexpr bool idle = false;
+  const typename Map::Coeffs* c;
+  double* at[K];  // each chain's record of the chunk's first step
+  std::size_t kept = 0;
+
+  void start(const State (&)[K]) {}
+  void before(int, const State&) {}
+  void after(int k, long long j, const State& x) {
+    Measures::record_at(*c, x, at[k] + static_cast<std::size_t>(j) * Measures::record_size);
+  }
+  void after_chains(long long, const State (&)[K]) {}
+};
+
 }  // namespace detail
 
 // How a block advances: in chunks kept in registers (each chunk replayed step by step where its
@@ -185,17 +206,30 @@ class Block {
 
   // Advances the block from plan.first to plan.last and stores it.
   void advance(Stepping stepping) {
-    for (int k = 0; k < K; ++k) measures_[k].load(e_, first_ + k * W);
+    for (int k = 0; k < K; ++k)
+      measures_[k].load(e_, first_ + k * W, plan_, static_cast<std::size_t>(k));
     if (densities_ && plan_.first == 0)
       for (int k = 0; k < K; ++k) count_densities(k, s_[k]);
-    for (long long n = plan_.first; n < plan_.last;) {
+    // the steps 1 .. until whose states the lane measurements record, up to each stop
+    const long long until = plan_.measure_orbits ? measures_[0].records_until() : 0;
+    long long n = plan_.first;
+    while (n < plan_.last) {
       long long next = std::min(plan_.last, n + detail::max_chunk);
-      if (stepping == Stepping::single_steps || sections_.step_by_step()) next = n + 1;
-      const bool checked = next == n + 1 ? single_step(next) : chunk(n, next);
+      const bool recording = n < until;
+      const long long stop = recording ? measures_[0].next_stop(n) : 0;
+      if (recording) next = std::min(next, stop);
+      if (stepping == Stepping::single_steps || sections_.step_by_step() ||
+          (recording && sections_.watched()))
+        next = n + 1;
+      const bool checked = next == n + 1 ? single_step(next, recording) : chunk(n, next, recording);
       if (next > n + 1) schedule_.reach(next);
       n = next;
+      if (recording && n == stop)
+        for (int k = 0; k < K; ++k) measures_[k].reached(n, alive_[k]);
       if (checked && !any_alive()) break;  // lanes may have escaped
     }
+    if (n < until)  // every lane escaped before the end of the windows
+      for (int k = 0; k < K; ++k) measures_[k].reached(until, alive_[k]);
     for (int k = 0; k < K; ++k) {
       L::store(e_, first_ + k * W, L::select(alive_[k], s_[k], frozen_[k]));
       measures_[k].store(e_, first_ + k * W);
@@ -233,28 +267,33 @@ class Block {
     for (int k = 0; k < K; ++k) sample(k, s_[k]);
   }
   // A single step, checked as it goes and observed in registers; it was checked (true).
-  bool single_step(long long next) {
+  bool single_step(long long next, bool recording) {
     const bool sampled = schedule_.single_step(next);
     sections_.refresh_before(s_);
 #pragma GCC unroll 8
     for (int k = 0; k < K; ++k) {
       checked_step(k, next);
       sections_.check(k, s_[k], alive_[k], next);
+      if (recording) measures_[k].record(c_, next, s_[k]);
       if (sampled) sample(k, s_[k]);
     }
     return true;
   }
   // The chunk of steps n + 1 .. next in registers, replayed step by step where it is suspect;
   // whether it was.
-  bool chunk(long long n, long long next) {
+  bool chunk(long long n, long long next, bool recording) {
     ChunkSamples samples = schedule_.chunk(n, next);
     State start[K];
     for (int k = 0; k < K; ++k) start[k] = s_[k];
     const detail::Chunk<Map, V> args{c_, n, next - n, bound2_, samples};
     const auto sample = [this](int k, const State& x) { this->sample(k, x); };
-    const bool suspect = sections_.watching(alive_, n, [&](auto& watch) {
+    const auto steps = [&](auto& watch) {
       return detail::step_any_chunk<Map, V, K>(args, s_, watch, sample);
-    });
+    };
+    detail::RecordWatch<Map, V, K> records{&c_, {}};
+    if (recording)
+      for (int k = 0; k < K; ++k) records.at[k] = measures_[k].records_at(n + 1);
+    const bool suspect = recording ? steps(records) : sections_.watching(alive_, n, steps);
     if (!suspect) {
       sections_.record(n);
       if (schedule_.after_chunk(next)) sample_chains();
@@ -267,6 +306,7 @@ class Block {
       for (int k = 0; k < K; ++k) {
         checked_step(k, j);
         sections_.check(k, s_[k], alive_[k], j);
+        if (recording) measures_[k].record(c_, j, s_[k]);
       }
       if (schedule_.in_replay(j, n, samples)) sample_chains();
     }

@@ -22,6 +22,7 @@ namespace qmaps {
 struct ColumnSpec {
   std::string path;
   double least = -std::numeric_limits<double>::infinity();
+  bool may_be_nan = false;  // NaN is a value here (a tune that a signal does not have)
 };
 
 struct Ensemble {

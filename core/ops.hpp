@@ -12,6 +12,7 @@
 //   log             natural log, one algorithm written below for every type (a long double's is
 //                   the C library's): within 2 ulp of the C library's log (measured over
 //                   80 binades), the same bits everywhere
+//   sin_cos         sine and cosine for |x| ≤ 2^20, one algorithm written below for every type
 //   any, all, bits  of a mask; bits: lane l's in bit l
 //   select, max, min  per-lane choice; max(a, b) = b > a ? b : a, NaN handling identical everywhere
 //                     (one maxpd / minpd on a batch, whose operand order gives exactly that rule)
@@ -35,6 +36,7 @@
 #include <cstdint>
 #include <limits>
 #include <type_traits>
+#include <utility>
 
 #include <immintrin.h>
 #include <xsimd/xsimd.hpp>
@@ -398,5 +400,41 @@ inline V log(V a) {
 // −0 − a: exact negation (+0 → −0, −0 → +0), the same arithmetic on every path.
 template <class V>
 inline V neg(V a) { return V(-0.0) - a; }
+
+// sin x and cos x for |x| ≤ 2^20 (the tunes' angles: at most 2π), one algorithm for double and
+// batches: k = nearest(x·2/π), y = x − k·π/2 with π/2 in three parts of 33 bits (Cody and
+// Waite: each k·part exact), then on |y| ≤ π/4
+//   sin y = y (1 − y²/3! + … − y¹⁶/17!),  cos y = 1 − y²/2! + … + y¹⁸/18!   tails < 1e-19
+// and the quadrant k mod 4 picks ±sin y or ±cos y.
+template <class V>
+inline void sin_cos(V x, V& sine, V& cosine) {
+  const V k = ops::floor(x * V(0.636619772367581343075535053490057448) + V(0.5));
+  const V y = ((x - k * V(1.57079632673412561417e+00)) - k * V(6.07710050630396597660e-11)) -
+              k * V(2.02226624871116645580e-21);
+  // (−1)^j/(2j + 1)! and (−1)^j/(2j)!, each n! exact below 2^53
+  constexpr auto terms = [] {
+    std::array<double, 9> odd{};
+    std::array<double, 10> even{};
+    double factorial = 1;
+    for (int n = 0; n <= 18; ++n) {
+      if (n > 0) factorial *= n;
+      const double term = ((n / 2) % 2 ? -1.0 : 1.0) / factorial;
+      if (n % 2) odd[n / 2] = term;
+      else even[n / 2] = term;
+    }
+    return std::pair{odd, even};
+  }();
+  const V z = y * y;
+  V s(terms.first[8]), c(terms.second[9]);
+  for (int j = 7; j >= 1; --j) s = ops::fma(s, z, V(terms.first[j]));
+  for (int j = 8; j >= 1; --j) c = ops::fma(c, z, V(terms.second[j]));
+  s = ops::fma(y * z, s, y);
+  c = ops::fma(z, c, V(1.0));
+  const V quadrant = k - V(4.0) * ops::floor(k * V(0.25));
+  const auto odd = (quadrant == V(1.0)) | (quadrant == V(3.0));
+  const V a = ops::select(odd, c, s), b = ops::select(odd, s, c);
+  sine = ops::select(quadrant >= V(2.0), ops::neg(a), a);
+  cosine = ops::select((quadrant == V(1.0)) | (quadrant == V(2.0)), ops::neg(b), b);
+}
 
 }  // namespace qmaps::ops

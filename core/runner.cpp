@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <bit>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,13 @@ namespace qmaps {
 
 void advance_parts(std::span<const RunPart> parts, const RunPlan& plan, const Execution& x) {
   if (plan.stride < 1) throw usage_error("stride must be >= 1");
+  if (plan.measure_orbits && (plan.tunes.inside(plan.first) || plan.tunes.inside(plan.last)))
+    throw Error(ExitCode::failure, "steps " + std::to_string(plan.first) + " to " + std::to_string(plan.last) +
+                " split the tunes' windows (steps 1 to " + std::to_string(plan.tunes.end()) + ")");
+  if (plan.tunes.window > 0 &&
+      (!std::has_single_bit(static_cast<unsigned long long>(plan.tunes.window)) ||
+       plan.tunes.order < 1))
+    throw usage_error("the tunes' window must be a power of two and their order at least 1");
   struct Blocks {
     std::size_t part, first, count;
   };

@@ -1,7 +1,7 @@
 // Bit-level agreement: every SIMD ISA compiled and supported here, 1 and 2 threads, every block
 // size (chains), and runs cut into segments (resume) reproduce the scalar reference path byte for
 // byte: final states (with their chaos records where a run keeps one), escape steps and reasons,
-// invariant drift.
+// invariant drift, and the tunes (over two windows of 128 steps, through escapes within them).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +12,8 @@
 #include <sstream>
 
 #include "core/isa.hpp"
+#include "core/observers/lane_observers.hpp"
+#include "core/observers/tunes/tunes.hpp"
 #include "ensemble_fixtures.hpp"
 #include "isas_run.hpp"
 
@@ -27,6 +29,7 @@ struct Scenario {
   long long steps = 400;
   bool on_plane = false;  // state (q2_n, q2_n+1) = (+0, −0)
   std::size_t deviations = 0;  // with a chaos record of 1 or 9 deviations (core/tangent_map.hpp)
+  long long tune_window = 0;   // with the tunes over two windows of this many steps
 };
 
 // Three per map of kernels/maps.hpp, from its example: bounded orbits; orbits escaping over the
@@ -50,6 +53,12 @@ std::vector<Scenario> scenarios() {
                    false, 9});
     out.push_back({id + "_escaping_spectrum", std::string(m.name),
                    param_values(m.facts->escaping), 1.2, 1.0, 10, true, 400, false, 9});
+    // The tunes: recorded in chunks and step by step, analysed at the windows' ends, with the
+    // chaos record, and through escapes inside the windows.
+    out.push_back({id + "_tunes", std::string(m.name), example, 0.5, 0.5, 1e8, false, 400, false,
+                   0, 128});
+    out.push_back({id + "_escaping_tunes", std::string(m.name), param_values(m.facts->escaping),
+                   1.2, 1.0, 10, true, 400, false, 1, 128});
   }
   out.push_back({"suris_A_eq_B", "suris", {{"A", 0.5}, {"B", 0.5}, {"alpha", 0.9}, {"h", 0.1}}, 0.5, 0.5, 1e8});
   out.push_back({"case2_hky_c", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"c11", 0.37}, {"c12", 0.41}, {"c21", 0.77}, {"c22", 0.19}}, 0.5, 0.5, 1e8});
@@ -63,7 +72,8 @@ std::vector<std::tuple<Scenario, std::size_t>> cases() {
   std::vector<std::tuple<Scenario, std::size_t>> out;
   for (const auto& s : scenarios())
     for (std::size_t n : {1, 7, 1001, 65537})
-      if ((n < 65537 || s.map == "suris") && (s.deviations == 0 || (n > 1 && n < 65537)))
+      if ((n < 65537 || s.map == "suris") &&
+          ((s.deviations == 0 && s.tune_window == 0) || (n > 1 && n < 65537)))
         out.emplace_back(s, n);
   return out;
 }
@@ -71,7 +81,11 @@ std::vector<std::tuple<Scenario, std::size_t>> cases() {
 void PrintTo(const Scenario& s, std::ostream* os) { *os << s.name; }
 
 Ensemble start(const Model& model, const Scenario& s, std::size_t orbits, double bound) {
-  Ensemble e = model.start(testing::box_points(orbits, s.q, s.p), Start::taylor, bound);
+  std::vector<std::string> measured;
+  if (s.tune_window > 0) measured.emplace_back(TuneColumns::key);
+  Ensemble e = model.ensemble(orbits, measured);
+  model.start_at(e, 0, testing::box_points(orbits, s.q, s.p), Start::taylor, bound);
+  e.fill_padding();
   if (s.on_plane) {
     for (std::size_t i = 0; i < e.padded; ++i) {
       e.state[1][i] = 0.0;
@@ -131,6 +145,7 @@ class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size
     p.total = p.last = scenario.steps;
     p.stride = 7;
     p.escape_bound = scenario.escape_bound;
+    p.tunes.window = scenario.tune_window;
     return p;
   }();
 
@@ -148,6 +163,15 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
     const std::size_t escaped = ref.escaped();
     EXPECT_GT(escaped, orbits / 10) << "the escaping scenario must exercise escapes";
     EXPECT_LT(escaped, orbits) << "and keep some orbits bounded";
+  }
+  if (scenario.tune_window > 0 && (!scenario.escapes || orbits > 100)) {
+    // tunes to compare: of the bounded orbits, in (0, 1/2)
+    const auto tunes = ref.columns_of(lane_index<Tunes>);
+    ASSERT_EQ(tunes.size(), std::size_t{TuneColumns::count});
+    std::size_t with_tunes = 0;
+    for (std::size_t i = 0; i < ref.orbits; ++i)
+      with_tunes += tunes[TuneColumns::nu1][i] > 0 && tunes[TuneColumns::nu1][i] < 0.5;
+    EXPECT_GT(with_tunes, scenario.escapes ? 0 : ref.orbits - ref.escaped() - 1);
   }
 
   const auto isas = testing::isas_to_run();
@@ -170,6 +194,10 @@ TEST_P(Agreement, RunCutIntoSegmentsOnOtherPathsIsBitIdenticalToUninterruptedRun
   Ensemble cut = fresh();
   const long long n = scenario.steps;
   std::set<long long> cuts = {0, std::min(1LL, n), n / 3, n / 3 + 1, n * 5 / 6, n};
+  if (plan.tunes.window > 0) {  // never inside the tunes' windows: at their end instead
+    std::erase_if(cuts, [&](long long c) { return plan.tunes.inside(c); });
+    cuts.insert(plan.tunes.end());
+  }
   const std::vector<long long> bounds(cuts.begin(), cuts.end());
   for (std::size_t s = 0; s + 1 < bounds.size(); ++s) {
     RunPlan segment = plan;

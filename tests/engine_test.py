@@ -46,11 +46,12 @@ def assert_same_datasets(mine, theirs):
 @pytest.fixture(scope="module")
 def configs(tmp_path_factory):
     """Two maps' configurations with every observer kind: Suris with a 1D and a 2D density, two
-    sections (capped and linear), the image, the chaos indicators (spectrum too) and a
+    sections (capped and linear), the image, the chaos indicators (spectrum too), the tunes and a
     trajectory; the leapfrog flow with its sections of mode exact."""
     folder = tmp_path_factory.mktemp("configs")
     out = {}
-    for name, preset, extra in (("suris", small_run.PRESET, small_run.EXTRA_OBSERVERS),
+    for name, preset, extra in (("suris", small_run.PRESET,
+                                 small_run.EXTRA_OBSERVERS + small_run.TUNES),
                                 ("leapfrog", small_run.FLOW_PRESET, small_run.FLOW_OBSERVERS)):
         path = folder / f"{name}.toml"
         path.write_text(preset.read_text() + extra)
@@ -86,6 +87,11 @@ def test_run_gives_numpy_arrays_of_every_observer_kind(configs):
         assert run["sections/q2both/x"].dtype == np.float64
         assert len(run["sections/q2both/orbit"]) == len(run["sections/q2both/x"]) > 0
         assert np.isfinite(run["chaos/megno"]).any()
+        tunes = run.tunes()
+        assert tunes["nu1"].shape == (501,) and tunes["class"].dtype == np.uint8
+        bounded = run["escape/step"] < 0
+        assert np.all((tunes["nu1"][bounded] > 0) & (tunes["nu1"][bounded] < 0.5))
+        assert "tunes/frequency_map" in run.histograms()
         assert run.to_pandas().shape[0] == 501
         assert run.params["h"] > 0
 

@@ -94,7 +94,7 @@ class Mpi(unittest.TestCase):
             raise unittest.SkipTest("no " + " and no ".join(missing))
         cls.tmp = tempfile.TemporaryDirectory()
         cls.dir = pathlib.Path(cls.tmp.name)
-        cls.config = small_run.PRESET.read_text() + small_run.EXTRA_OBSERVERS + TRAJECTORIES
+        cls.config = small_run.PRESET.read_text() + small_run.EXTRA_OBSERVERS + small_run.TUNES + TRAJECTORIES
         (cls.dir / "c.toml").write_text(cls.config)
         r = launch(argv("single.h5"), cls.dir)
         assert r.returncode == 0, r.stderr

@@ -60,16 +60,24 @@ TEST(Presets, EachRunsSmallAndWritesItsObservers) {
         points += (points.back() == '[' ? "" : ", ") + std::to_string(std::min<std::int64_t>(n, 6));
     points += "]";
     TempDir dir;
-    const Result r = run({"run", path, "--set", grid ? points : "ensemble.orbits=300",
-                          "--set", "run.steps=300", "--out", "small.h5", "--quiet"},
-                         dir);
+    const bool tunes = preset.has_section("tunes");  // two windows of 128 steps in the 300
+    std::vector<std::string> args{"run", path, "--set", grid ? points : "ensemble.orbits=300",
+                                  "--set", "run.steps=300", "--out", "small.h5", "--quiet"};
+    if (tunes) args.insert(args.end(), {"--set", "tunes.window=128"});
+    const Result r = run(args, dir);
     ASSERT_EQ(r.status, 0) << r.err;
     EXPECT_TRUE(Contains(r.err, "0 escaped")) << "bounded orbits";
     const auto file = h5::File::open_read(dir / "small.h5");
     const auto root = file.root();
     EXPECT_EQ(root.attr_string("map"), preset.string("map", "name"));
     EXPECT_EQ(root.attr_string("ensemble"), kind);
-    ASSERT_GT(preset.entries("histogram") + preset.entries("section"), 0u);
+    ASSERT_GT(preset.entries("histogram") + preset.entries("section") + (tunes ? 1 : 0), 0u);
+    if (tunes) {
+      const auto map = root.open_group("tunes").open_group("frequency_map");
+      expect_mostly_inside(map, "frequency map");
+      EXPECT_EQ(map.attr_int64("samples"), root.open_group("tunes").attr_int64("regular") +
+                                               root.open_group("tunes").attr_int64("chaotic"));
+    }
     for (std::size_t i = 0; i < preset.entries("histogram"); ++i) {
       const std::string name = preset.string("histogram[" + std::to_string(i) + "]", "name");
       expect_mostly_inside(root.open_group("histograms").open_group(name), name);

@@ -33,7 +33,7 @@ class Shards(unittest.TestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.dir = pathlib.Path(cls.tmp.name)
-        text = small_run.PRESET.read_text() + small_run.EXTRA_OBSERVERS + TRAJECTORIES
+        text = small_run.PRESET.read_text() + small_run.EXTRA_OBSERVERS + small_run.TUNES + TRAJECTORIES
         (cls.dir / "c.toml").write_text(text.replace('file = "suris.h5"', 'file = "whole.h5"'))
         cls.sets = ["--set", "ensemble.orbits=1001", "--set", "run.steps=120", "--set",
                     "run.escape_bound=0.6", "--quiet"]

@@ -62,6 +62,12 @@ first = 3
 every = 50
 """
 
+# The tunes over two windows of 32 steps (a run of at least 64 steps).
+TUNES = """
+[tunes]
+window = 32
+"""
+
 # The flow's preset (its section of mode exact) with a second section of mode exact, in q2.
 FLOW_PRESET = SOURCE_DIR / "ensembles" / "presets" / "leapfrog.toml"
 FLOW_OBSERVERS = q2_section("q2exact", "exact")
@@ -91,9 +97,9 @@ def small_run(directory, orbits=2000, steps=200, name="small.h5", preset=PRESET,
 
 def every_layout(directory):
     """Small runs that together write everything the schema page documents: the preset with
-    EXTRA_OBSERVERS, a flow's with FLOW_OBSERVERS (mode exact), and case2-staggered's and case3's
+    EXTRA_OBSERVERS and TUNES, a flow's with FLOW_OBSERVERS (mode exact), and case2-staggered's and case3's
     raw states. The first is the Suris run."""
-    return [small_run(directory, orbits=300, steps=200),
+    return [small_run(directory, orbits=300, steps=200, extra=EXTRA_OBSERVERS + TUNES),
             small_run(directory, orbits=300, steps=200, name="flow.h5", preset=FLOW_PRESET,
                       extra=FLOW_OBSERVERS),
             *(small_run(directory, orbits=None, steps=20, name=f"{p}.h5",

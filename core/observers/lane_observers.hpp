@@ -8,12 +8,23 @@
 //   static constexpr std::string_view key                   optional: the configuration table
 //       ([key]) that turns it on and names it in `asked`; without one it is always on
 //   static start(coeffs, State<double> s, columns, orbit)  its values for an orbit starting at s
-//   load(columns, orbit)                                    the block's lanes from `orbit`
-//   sample(coeffs, State<V> x, alive)                       at a sampling step
+//   load(columns, orbit, plan, chain)                       the block's chain's lanes from `orbit`
+//   sample(coeffs, State<V> x, alive)                       at a sampling step (optional)
 //   store(columns, orbit) const
+// A measurement that records every step's state up to a step (records_steps = true) also has
+//   records_until() const        the last step it records in this call of the runner (0: none)
+//   next_stop(n) const           the next step after n where it analyses what it recorded: the
+//                                block's chunks end there
+//   records_at(step) const       where the record of `step` goes: record_size doubles, a stop's
+//                                steps one after the other (so that a chunk writes straight there)
+//   static record(coeffs, x, at) the chain's state x (alive or not) as a record, at `at`
+//   reached(step, alive)         every chain is at a stop; `alive`: its lanes that have not escaped
+// At most one measurement of the list records steps.
 // and one line in the list below. The block, the model's start, the run's file, the checkpoint
 // and the merge iterate the list, and none of them names a measurement.
+#include <algorithm>
 #include <cstddef>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,14 +35,21 @@
 
 #include "core/ensemble.hpp"
 #include "core/observers/invariants/invariant_track.hpp"
+#include "core/observers/tunes/tunes.hpp"
+#include "core/run_plan.hpp"
 
 namespace qmaps {
 
 template <template <class, class> class... M>
 struct LaneList {};
 
+template <class M>
+concept RecordsSteps = requires { requires M::records_steps; };
+template <class M>
+concept Samples = requires { &M::sample; };
+
 // The list.
-using LaneMeasurements = LaneList<InvariantTrack>;
+using LaneMeasurements = LaneList<InvariantTrack, Tunes>;
 
 namespace detail {
 
@@ -47,6 +65,18 @@ struct LaneTuple<Map, V, LaneList<M...>> {
   using type = std::tuple<M<Map, V>...>;
   using each = Each<M<Map, V>...>;
 };
+
+// The doubles of a step's record, summed over the measurements of a tuple (one records, at most).
+template <class Tuple, std::size_t... i>
+constexpr std::size_t record_size(std::index_sequence<i...>) {
+  const auto of = []<class M>(M*) -> std::size_t {
+    if constexpr (RecordsSteps<M>) return M::record_size;
+    else return 0;
+  };
+  static_assert((std::size_t{0} + ... + (RecordsSteps<std::tuple_element_t<i, Tuple>> ? 1 : 0)) <= 1,
+                "at most one lane measurement records steps");
+  return (std::size_t{0} + ... + of(static_cast<std::tuple_element_t<i, Tuple>*>(nullptr)));
+}
 
 template <template <class, class> class Wanted, template <class, class> class... M>
 constexpr std::size_t index_in(LaneList<M...>) {
@@ -94,16 +124,62 @@ class LaneObservers {
     });
   }
 
-  void load(const Ensemble& e, std::size_t orbit) {
+  void load(const Ensemble& e, std::size_t orbit, const RunPlan& plan, std::size_t chain) {
     each([&](auto& m, std::size_t i) {
       on_[i] = !e.columns_of(i).empty();
-      if (on_[i]) m.load(e.columns_of(i), orbit);
+      if (on_[i]) m.load(e.columns_of(i), orbit, plan, chain);
     });
   }
   void sample(const typename Map::Coeffs& c, const typename Map::template State<V>& x,
               ops::mask_t<V> alive) {
-    each([&](auto& m, std::size_t i) {
-      if (on_[i]) m.sample(c, x, alive);
+    each([&]<class M>(M& m, std::size_t i) {
+      if constexpr (Samples<M>)
+        if (on_[i]) m.sample(c, x, alive);
+    });
+  }
+  // The measurements that record steps: the last step any records, the next stop after n.
+  long long records_until() const {
+    long long until = 0;
+    each([&]<class M>(const M& m, std::size_t i) {
+      if constexpr (RecordsSteps<M>)
+        if (on_[i]) until = std::max(until, m.records_until());
+    });
+    return until;
+  }
+  long long next_stop(long long n) const {
+    long long stop = std::numeric_limits<long long>::max();
+    each([&]<class M>(const M& m, std::size_t i) {
+      if constexpr (RecordsSteps<M>)
+        if (on_[i] && m.records_until() > n) stop = std::min(stop, m.next_stop(n));
+    });
+    return stop;
+  }
+  // The recording measurement's record of a step: its doubles, where it goes (null: none
+  // records), and the state x as that record.
+  static constexpr std::size_t record_size =
+      detail::record_size<Tuple>(std::make_index_sequence<count>{});
+  double* records_at(long long step) const {
+    double* at = nullptr;
+    each([&]<class M>(const M& m, std::size_t i) {
+      if constexpr (RecordsSteps<M>)
+        if (on_[i] && step <= m.records_until()) at = m.records_at(step);
+    });
+    return at;
+  }
+  static void record_at(const typename Map::Coeffs& c, const typename Map::template State<V>& x,
+                        double* at) {
+    each_type([&]<class M>(std::size_t) {
+      if constexpr (RecordsSteps<M>) M::record(c, x, at);
+    });
+  }
+  void record(const typename Map::Coeffs& c, long long step,
+              const typename Map::template State<V>& x) {
+    if (double* at = records_at(step)) record_at(c, x, at);
+  }
+  void reached(long long step, ops::mask_t<V> alive) {
+    each([&]<class M>(M& m, std::size_t i) {
+      if constexpr (RecordsSteps<M>)
+        if (on_[i] && m.records_until() >= step) m.reached(step, alive);
     });
   }
   void store(Ensemble& e, std::size_t orbit) const {

@@ -227,4 +227,38 @@ std::vector<Trajectory> trajectories_from_config(const Config& config, const Mod
   return out;
 }
 
+TuneSettings tunes_from_config(const Config& config, long long steps) {
+  TuneSettings t;
+  if (!config.has_section("tunes")) return t;
+  constexpr long long least = 32, most = 1 << 20;  // least: the window's main lobe, 2(p + 1) bins, is a tenth of the spectrum
+  const long long n = config.integer_or("tunes", "window", 1024);
+  const std::string window = config.where("tunes", "window") +
+                             (config.has("tunes", "window") ? "" : " (the default, 1024)");
+  if (n < least || n > most || (n & (n - 1)) != 0)
+    throw usage_error(window + " must be a power of two from " + std::to_string(least) + " to " +
+                      std::to_string(most) + " (got " + std::to_string(n) + ")");
+  if (2 * n > steps)
+    throw usage_error(window + ": the tunes' two windows of " + std::to_string(n) +
+                      " steps need " + std::to_string(2 * n) + " steps, but " +
+                      config.where("run", "steps") + " gives " + std::to_string(steps) +
+                      ": set window to a power of two at most steps/2");
+  t.windows.window = n;
+  const long long order = config.integer_or("tunes", "order", t.windows.order);
+  if (order < 1 || order > 8)
+    throw usage_error(config.where("tunes", "order") +
+                      " must be 1 to 8: the Hann window's order (got " + std::to_string(order) + ")");
+  t.windows.order = static_cast<int>(order);
+  t.report.bins = config.integer_or("tunes", "bins", t.report.bins);
+  if (t.report.bins < 1 || t.report.bins > 4096)
+    throw usage_error(config.where("tunes", "bins") + " must be 1 to 4096 (got " +
+                      std::to_string(t.report.bins) + ")");
+  t.report.diffusion_threshold =
+      config.number_or("tunes", "diffusion_threshold", t.report.diffusion_threshold);
+  if (!(t.report.diffusion_threshold < 0 && t.report.diffusion_threshold > -300))
+    throw usage_error(config.where("tunes", "diffusion_threshold") +
+                      " must be a log10 below 0 (got " +
+                      number_text(t.report.diffusion_threshold) + ")");
+  return t;
+}
+
 }  // namespace qmaps

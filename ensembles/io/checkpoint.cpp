@@ -111,7 +111,8 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
         throw bad(state, "orbit " + std::to_string(j) + " has not escaped but its " +
                              std::string(names[k]) + " is not finite");
     for (std::size_t c = 0; c < e.columns.size(); ++c)
-      if (!(e.columns[c][i] >= e.column_specs[c].least) || !std::isfinite(e.columns[c][i]))
+      if (!(std::isnan(e.columns[c][i]) && e.column_specs[c].may_be_nan) &&
+          (!(e.columns[c][i] >= e.column_specs[c].least) || !std::isfinite(e.columns[c][i])))
         throw bad(root, "orbit " + std::to_string(j) + " has not escaped but its " +
                             e.column_specs[c].path + " is " + number_text(e.columns[c][i]) +
                             (std::isfinite(e.columns[c][i])

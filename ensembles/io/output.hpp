@@ -29,6 +29,13 @@ struct ChaosReport {
   long long bins = 100;
 };
 
+// How /tunes reports the tunes (docs/tunes.md): an orbit is chaotic where its diffusion exceeds
+// the threshold; the histograms have `bins` bins, the frequency map bins × bins.
+struct TuneReport {
+  double diffusion_threshold = -6;
+  long long bins = 100;
+};
+
 // The rows of a file's per-orbit datasets that this process writes: [first, first + count) of
 // total. A rank of qmaps-mpi writes its orbits' rows into the one file of the run; any other
 // process writes all of them (first 0, count = total).
@@ -62,6 +69,7 @@ struct RunRecord {
   std::string ensemble_description{};  // what the initial conditions are, in one line
   std::uint64_t rejected = 0;        // candidates rejected (shell ensembles)
   ChaosReport chaos{};
+  TuneReport tunes{};
   std::vector<Trajectory>* trajectories = nullptr;
   // A shard's file (docs/cli.md): "k/K", and its orbits' place in the ensemble of orbits_total.
   std::string shard{};

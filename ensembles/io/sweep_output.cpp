@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
+#include "core/observers/tunes/tunes.hpp"
 #include "ensembles/io/run_observers/chaos_summary.hpp"
+#include "ensembles/io/run_observers/tune_summary.hpp"
 #include "ensembles/io/statistics.hpp"
 
 namespace qmaps {
@@ -89,6 +91,17 @@ void write_sweep(const h5::Group& root, const Sweep& sweep, std::span<const RunR
   std::vector<std::int64_t> orbits(points), escaped(points), regular(points), chaotic(points);
   std::vector<double> fraction(points), megno(points), lyapunov(points), drift(points);
   const bool chaos = !first.model.indicator_names().empty();
+  const bool tunes = first.plan.tunes.window > 0;
+  std::vector<std::int64_t> tune_regular(points), tune_chaotic(points);
+  std::vector<double> tune_fraction(points), diffusion(points);
+  for (std::size_t k = 0; k < points; ++k) {
+    if (!tunes) break;
+    const TuneTable t = tune_table(runs[k].ensemble, runs[k].tunes.diffusion_threshold);
+    tune_regular[k] = t.regular;
+    tune_chaotic[k] = t.chaotic;
+    tune_fraction[k] = t.chaotic_fraction();
+    diffusion[k] = quantile(t.finite(TuneColumns::diffusion), 0.5);
+  }
   for (std::size_t k = 0; k < points; ++k) {
     const RunRecord& run = runs[k];
     orbits[k] = static_cast<std::int64_t>(run.ensemble.orbits);
@@ -112,6 +125,14 @@ void write_sweep(const h5::Group& root, const Sweep& sweep, std::span<const RunR
     g.write("chaotic_fraction", std::span<const double>(fraction));
     g.write("median_megno", std::span<const double>(megno));
     g.write("median_lyapunov", std::span<const double>(lyapunov));
+  }
+
+  if (tunes) {
+    g.attr("diffusion_threshold", first.tunes.diffusion_threshold);
+    g.write("tunes_regular", std::span<const std::int64_t>(tune_regular));
+    g.write("tunes_chaotic", std::span<const std::int64_t>(tune_chaotic));
+    g.write("tunes_chaotic_fraction", std::span<const double>(tune_fraction));
+    g.write("median_diffusion", std::span<const double>(diffusion));
   }
 
   const auto point_runs = g.open_group("runs");

@@ -59,6 +59,7 @@ struct OrbitOptions {
   std::string start = "taylor";
   double escape_bound = 1e8;
   bool chaos = false;  // also the chaos indicators' columns (docs/chaos.md)
+  long long tunes = 0;  // the tunes' window N (docs/tunes.md; 0: none)
   std::optional<double> energy;  // p2 solved from H_cont(q1, q2, p1, p2) = E, its sign kept
 };
 
@@ -91,6 +92,8 @@ int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& 
 // each row's values in that order. Returns why the rows stopped early (an escape), or "".
 using OrbitColumns = std::function<void(const std::vector<std::string>&)>;
 using OrbitRow = std::function<void(std::span<const double>)>;
+// The orbit's tunes over its first 2·tunes steps, as a line of text ("" without --tunes).
+std::string orbit_tunes(const OrbitOptions& options);
 std::string orbit_rows(const OrbitOptions& options, const OrbitColumns& columns,
                        const OrbitRow& row);
 int list_command(std::ostream& out);

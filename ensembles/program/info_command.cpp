@@ -92,11 +92,22 @@ void describe_measured(const h5::Group& root, std::size_t orbits,
       const auto values = group.read_doubles(name, orbits);
       std::vector<double> kept;
       for (std::size_t i = 0; i < orbits; ++i)
-        if (alive[i]) kept.push_back(values[i]);
+        if (alive[i] && !std::isnan(values[i])) kept.push_back(values[i]);  // NaN: no tune
+      if (kept.empty()) continue;
       const auto q = quantiles(std::move(kept), {0, 0.5, 1});
       out << "  " << path << ": least " << g(q[0]) << ", median " << g(q[1]) << ", largest "
           << g(q[2]) << '\n';
     }
+}
+
+// Each histogram of the group with its median and quartiles, a line each.
+void quartile_lines(const h5::Group& histograms, std::ostream& out) {
+  for (const auto& name : histograms.members()) {
+    const auto h = histograms.open_group(name);
+    out << "  " << name << std::string(name.size() < 14 ? 14 - name.size() : 1, ' ') << "median "
+        << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1")) << " to "
+        << g(h.attr_double("q3")) << '\n';
+  }
 }
 
 // A sweep's file: its axes, then one row per point with its summary (docs/sweeps.md).
@@ -129,13 +140,20 @@ int describe_sweep(const std::string& path, const h5::Group& root, std::ostream&
     fraction = sweep.read_doubles("chaotic_fraction", n);
     megno = sweep.read_doubles("median_megno", n);
   }
+  const bool tunes = sweep.has("median_diffusion");
+  std::vector<double> tune_fraction, diffusion;
+  if (tunes) {
+    tune_fraction = sweep.read_doubles("tunes_chaotic_fraction", n);
+    diffusion = sweep.read_doubles("median_diffusion", n);
+  }
   char line[256];
   out << "point";
   for (const auto& a : axes) {
     std::snprintf(line, sizeof line, " %16s", a.c_str());
     out << line;
   }
-  out << "   orbits  escaped" << (chaos ? "  chaotic  median MEGNO" : "") << "  worst drift\n";
+  out << "   orbits  escaped" << (chaos ? "  chaotic  median MEGNO" : "")
+      << (tunes ? "  chaotic by diffusion  median diffusion" : "") << "  worst drift\n";
   for (std::size_t k = 0; k < n; ++k) {
     std::snprintf(line, sizeof line, "%5zu", k);
     out << line;
@@ -150,6 +168,10 @@ int describe_sweep(const std::string& path, const h5::Group& root, std::ostream&
     out << line;
     if (chaos) {
       std::snprintf(line, sizeof line, " %8.3g %13.3g", fraction[k], megno[k]);
+      out << line;
+    }
+    if (tunes) {
+      std::snprintf(line, sizeof line, " %21.3g %16.3g", tune_fraction[k], diffusion[k]);
       out << line;
     }
     std::snprintf(line, sizeof line, " %12.3g\n", drift[k]);
@@ -259,19 +281,25 @@ int describe(const std::string& path, std::ostream& out) {
     out << "chaos:      " << chaotic << " chaotic, " << regular << " regular (MEGNO above / not above "
         << number_text(chaos.attr_double("megno_threshold")) << "), " << chaos.attr_int64("escaped")
         << " escaped; chaotic fraction " << g(chaos.attr_double("chaotic_fraction")) << '\n';
-    const auto histograms = chaos.open_group("histograms");
-    for (const auto& name : histograms.members()) {
-      const auto h = histograms.open_group(name);
-      out << "  " << name << std::string(name.size() < 14 ? 14 - name.size() : 1, ' ')
-          << "median " << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1"))
-          << " to " << g(h.attr_double("q3")) << '\n';
-    }
+    quartile_lines(chaos.open_group("histograms"), out);
+  }
+  if (root.has("tunes")) {
+    const auto tunes = root.open_group("tunes");
+    out << "tunes:      windows of " << tunes.attr_int64("window") << " steps, Hann order "
+        << tunes.attr_int64("order") << "; " << tunes.attr_int64("chaotic") << " chaotic, "
+        << tunes.attr_int64("regular") << " regular (diffusion above / not above "
+        << number_text(tunes.attr_double("diffusion_threshold")) << "), "
+        << tunes.attr_int64("escaped") << " escaped, " << tunes.attr_int64("no_tune")
+        << " without a tune, " << tunes.attr_int64("round_off") << " at round-off; chaotic fraction "
+        << g(tunes.attr_double("chaotic_fraction")) << '\n';
+    quartile_lines(tunes.open_group("histograms"), out);
+    out << "  frequency map: " << histogram_text(tunes.open_group("frequency_map"), "counts") << '\n';
   }
   std::vector<std::string> others;
   std::size_t groups_left = 100000;
   other_histograms(root, "",
                    {"initial", "final", "escape", "invariants", "histograms", "sections", "chaos",
-                    "trajectories"},
+                    "tunes", "trajectories"},
                    others, groups_left);
   if (!others.empty()) out << "other histograms:\n";
   for (const auto& path : others) {

@@ -105,6 +105,9 @@ int main(int argc, char** argv) {
                         "with the sign --ic gives it");
   orbit_cmd->add_flag("--chaos", orbit.chaos,
                       "also columns lyapunov, fli, megno from the tangent map (docs/chaos.md)");
+  orbit_cmd->add_option("--tunes", orbit.tunes,
+                        "also the orbit's tunes over steps 1..N and N+1..2N and its diffusion, on "
+                        "stderr (N a power of two, 32 to 2^20; docs/tunes.md)");
   orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")
       ->capture_default_str();
 

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/error.hpp"
+#include "core/observers/lane_observers.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/io/trajectories.hpp"
 #include "ensembles/program/commands.hpp"
@@ -31,14 +32,18 @@ Phase parse_ic(const std::string& text) {
   return {x[0], x[1], x[2], x[3]};
 }
 
-}  // namespace
+struct OrbitStart {
+  std::unique_ptr<Model> model;
+  Phase ic;
+  Start start;
+};
 
-std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
-                       const OrbitRow& row) {
+// The orbit's model and initial condition, every option checked.
+OrbitStart orbit_start(const OrbitOptions& o) {
   // With --chaos the map advances its chaos record with the state (core/tangent_map.hpp): the
   // same steps, bit for bit, and the indicators of the orbit so far on every row.
-  const auto model = o.chaos ? make_model(o.map, parse_params(o.sets), ChaosOptions{true, 10})
-                             : make_model(o.map, parse_params(o.sets));
+  auto model = o.chaos ? make_model(o.map, parse_params(o.sets), ChaosOptions{true, 10})
+                       : make_model(o.map, parse_params(o.sets));
   Phase ic = parse_ic(o.ic);
   if (o.energy) {  // p2 from H_cont = E, with the sign --ic gives it
     const double rest = model->continuous().energy({ic.q1, ic.q2, ic.p1, 0.0});
@@ -55,8 +60,47 @@ std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
   if (o.steps < 0) throw usage_error("--steps must be >= 0");
   if (o.every < 1) throw usage_error("--every must be >= 1");
   if (!(o.escape_bound > 0)) throw usage_error("--escape-bound must be > 0");
-  const Start start = parse_start(o.start);
+  if (o.tunes != 0 && (o.tunes < 32 || o.tunes > (1 << 20) || (o.tunes & (o.tunes - 1)) != 0))
+    throw usage_error("--tunes " + std::to_string(o.tunes) +
+                      ": the window must be a power of two from 32 to 1048576");
+  if (2 * o.tunes > o.steps)
+    throw usage_error("--tunes " + std::to_string(o.tunes) + ": its two windows need " +
+                      std::to_string(2 * o.tunes) + " steps; --steps gives " +
+                      std::to_string(o.steps));
+  return {std::move(model), ic, parse_start(o.start)};
+}
 
+}  // namespace
+
+std::string orbit_tunes(const OrbitOptions& o) {
+  const auto [model, ic, start] = orbit_start(o);
+  if (o.tunes == 0) return "";
+  Ensemble e = model->ensemble(1, std::vector<std::string>{std::string(TuneColumns::key)});
+  model->start_at(e, 0, std::span<const Phase>(&ic, 1), start, o.escape_bound);
+  e.fill_padding();
+  RunPlan plan;
+  plan.total = plan.last = 2 * o.tunes;  // in one call: the windows are analysed whole
+  plan.escape_bound = o.escape_bound;
+  plan.tunes = {o.tunes, 2};
+  model->advance(e, plan, Execution{});
+  const auto tunes = e.columns_of(lane_index<Tunes>);
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "tunes (NAFF of q1, q2, Hann order 2, folded to [0, 1/2]) over steps 1 to %lld: "
+                "nu1 = %.17g, nu2 = %.17g; over steps %lld to %lld: nu1 = %.17g, nu2 = %.17g; "
+                "diffusion log10|dnu| = %.6g%s",
+                o.tunes, tunes[TuneColumns::nu1][0], tunes[TuneColumns::nu2][0], o.tunes + 1,
+                2 * o.tunes, tunes[TuneColumns::nu1_second][0], tunes[TuneColumns::nu2_second][0],
+                tunes[TuneColumns::diffusion][0],
+                tunes[TuneColumns::diffusion][0] == diffusion_floor() ? " (round-off: no change)"
+                : e.escape_step[0] >= 0 ? " (escaped within the windows: NaN)"
+                                        : "");
+  return text;
+}
+
+std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
+                       const OrbitRow& row) {
+  const auto [model, ic, start] = orbit_start(o);
   Ensemble e = model->start(std::span<const Phase>(&ic, 1), start, o.escape_bound);
   // The continuous system's H and its case's second integral at the phase point: the flow's
   // invariants (kernels/flow.hpp) for the map's potential, so that the map's oscillating energy
@@ -117,6 +161,7 @@ int orbit_command(const OrbitOptions& o, std::ostream& out, std::ostream& log) {
         out << '\n';
       });
   if (!escaped.empty()) log << "qmaps orbit: " << escaped << '\n';
+  if (o.tunes > 0) log << "qmaps orbit: " << orbit_tunes(o) << '\n';
   return 0;
 }
 

@@ -8,6 +8,7 @@
 
 #include "core/error.hpp"
 #include "core/memory_limit.hpp"
+#include "core/observers/tunes/naff_tables.hpp"
 #include "ensembles/io/ranks.hpp"
 #include "core/thread_limit.hpp"
 #include "core/tangent_map.hpp"
@@ -137,6 +138,9 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (r.x.chains != 1 && r.x.chains != 2 && r.x.chains != 4 && r.x.chains != 8)
     throw usage_error(config.where("run", "chains") + " must be 1, 2, 4 or 8");
 
+  const TuneSettings tunes = tunes_from_config(config, r.plan.total);
+  r.plan.tunes = tunes.windows;
+  r.tunes = tunes.report;
   r.observers = observers_from_config(config, *r.model, r.orbits, r.plan.total);
   r.trajectories = trajectories_from_config(config, *r.model, orbits, r.plan.total);
   if (r.shard) keep_orbits_in(r.trajectories, r.first, r.orbits);
@@ -144,9 +148,13 @@ Run run_of(const Config& config, std::unique_ptr<Model> model, std::size_t orbit
   if (!r.shard && !ranks::root()) keep_orbits_in(r.trajectories, 0, 0);
   double for_trajectories = 0;
   for (const auto& t : r.trajectories) for_trajectories += t.bytes(r.plan.total);
+  // The tunes' scratch on each thread: a window of every chain's lanes, and the FFT's.
+  const double for_tunes = static_cast<double>(r.x.threads) * static_cast<double>(fft_slot + 1) *
+                           2 * static_cast<double>(r.plan.tunes.window) * 8 * sizeof(double);
   // The threads started: OpenMP's beside this one, and the writer's, one per invariant
   // (ensembles/io/output.cpp).
-  check_memory(config, *r.model, r.measured, r.orbits, r.observers.bytes(r.x.threads) + for_trajectories,
+  check_memory(config, *r.model, r.measured, r.orbits,
+               r.observers.bytes(r.x.threads) + for_trajectories + for_tunes,
                r.x.threads - 1 + static_cast<int>(r.model->invariant_names().size()));
   r.image = invariant_image_from_config(config, *r.model);
   r.chaos = chaos_report_of(config);
@@ -284,6 +292,7 @@ RunRecord record_of(Run& r, const Ensemble& e, long long session_first,
       .ensemble_description = r.description,
       .rejected = r.rejected,
       .chaos = r.chaos,
+      .tunes = r.tunes,
       .trajectories = &r.trajectories,
       .shard = r.shard ? r.shard->name() : "",
       .shard_first = static_cast<std::int64_t>(r.first),

@@ -48,6 +48,7 @@ struct Run {
   Observers observers;
   std::optional<InvariantImage> image;
   ChaosReport chaos;
+  TuneReport tunes;
   std::vector<Trajectory> trajectories;
   std::string path;  // the output file
   std::string kind, description;  // the ensemble's kind and its one-line description

@@ -18,6 +18,9 @@ int SegmentLoop::run(long long from, const std::function<void(const RunPlan&)>& 
     if (checkpoint_every > 0)
       segment.last = std::min(segment.last, (step / checkpoint_every + 1) * checkpoint_every);
     segment.last = self_signal.segment_end(segment.first, segment.last);
+    // the tunes' windows are analysed whole: a segment ends before them or at their end
+    if (plan.measure_orbits && plan.tunes.inside(segment.last))
+      segment.last = std::min(plan.total, plan.tunes.end());
     const double t = progress.seconds();
     advance(segment);
     const double took = ranks::max(progress.seconds() - t);

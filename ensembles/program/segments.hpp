@@ -8,7 +8,8 @@
 // `least_steps` steps where that lasts under 2 s (a large ensemble's), and never over 8 s. A sweep,
 // which keeps no checkpoint and makes every point's observers afresh each segment, aims at 2 to
 // 8 s. A segment also ends at every multiple of `checkpoint_every` (> 0) and where the run signals
-// itself (SelfSignal). Over several ranks, each decision is taken alike on every rank: the longest
+// itself (SelfSignal), but never inside the tunes' windows (core/run_plan.hpp: the first segment
+// then lasts to their end, and a signal waits for it). Over several ranks, each decision is taken alike on every rank: the longest
 // segment sets the next length, a signal on any rank stops them all.
 #include <functional>
 

@@ -1,5 +1,5 @@
 """qmaps-plot FILE.h5 [-o DIR] [--format png|pdf|svg] [--dpi N] [--color-by WHAT] [--range auto]
-                   [--style screen|paper]
+                   [--style screen|paper] [--resonance-order N]
 
 Draws the pictures of a qmaps run file (docs/hdf5-schema.md), one image per item and a summary:
   <stem>-histogram-<name>   every /histograms/<name>: 2D on a log colour scale, 1D as steps
@@ -9,6 +9,17 @@ Draws the pictures of a qmaps run file (docs/hdf5-schema.md), one image per item
                             section's density when the cap cut points or none were kept
   <stem>-drift              each invariant's drift histogram, machine epsilon marked
   <stem>-energy-momentum    /invariants/image, when the run has one
+With [tunes] (/tunes):
+  <stem>-frequency-map      each orbit's tunes (nu1, nu2) coloured by their diffusion log10 |dnu|
+                            (orbits at the round-off floor in the lowest colour, counted), over
+                            the tunes' extent, with the resonance lines m nu1 + n nu2 = k up to
+                            |m| + |n| = --resonance-order (default 4; labelled, fainter as the
+                            order rises); without per-orbit data the tunes' 2D histogram
+  <stem>-diffusion-map      a grid's diffusion over its two coordinates, escaped orbits in grey
+  <stem>-tune-footprint     nu2 against nu1 coloured by the initial amplitude, a grid's
+                            neighbours joined into a mesh (of at most 60 lines a side)
+  <stem>-tune-amplitude     a line's nu1 and nu2 against the coordinate that varies most on it
+  <stem>-tune-diffusion     the diffusion's histogram, the round-off floor 2^-53 marked
   <stem>-summary            all of them in one image, two panels per row up to four, else three
 A sweep's file (docs/sweeps.md) gets one image instead, <stem>-sweep: over the parameter plane
 (or line), the chaotic fraction and the median MEGNO with [chaos], and the worst invariant drift,
@@ -32,7 +43,9 @@ import tomllib
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.collections  # noqa: E402
 import matplotlib.colors  # noqa: E402
+import matplotlib.patches  # noqa: E402
 import matplotlib.ticker  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
@@ -57,11 +70,11 @@ def pt(size):
     return size * style["scale"]
 
 
-MAX_POINTS = 200_000  # section points drawn at most (a fixed random subset beyond)
+MAX_POINTS = 200_000  # section points or tunes drawn at most (a fixed random subset beyond)
 EPSILON = np.finfo(np.float64).eps
 
 # Datasets no picture needs, left unread (large runs hold 10^6 values in each).
-UNUSED = ("initial/*", "final/*", "escape/*", "invariants/*/final", "invariants/*/max_abs_drift")
+UNUSED = ("final/*", "escape/*", "invariants/*/final", "invariants/*/max_abs_drift")
 
 
 def count(n):
@@ -75,7 +88,7 @@ def count(n):
 
 COORDINATES = ("q1", "q2", "p1", "p2")
 GREEK = {"alpha": r"\alpha", "beta": r"\beta", "gamma": r"\gamma", "delta": r"\delta",
-         "lambda": r"\lambda"}
+         "lambda": r"\lambda", "nu": r"\nu"}
 ROMAN = {"1": "I", "2": "II", "3": "III", "4": "IV"}
 
 
@@ -158,6 +171,28 @@ def both_coordinates(*names):
     return all(n in COORDINATES for n in names)
 
 
+def subset(points):
+    """The indices of the points drawn: all, or beyond MAX_POINTS a fixed random subset, the same
+    on every call."""
+    if points <= MAX_POINTS:
+        return slice(None)
+    return np.sort(np.random.default_rng(0).choice(points, MAX_POINTS, replace=False))
+
+
+def fit(ax, x, y, margin, least, within=(-math.inf, math.inf)):
+    """Axes over the data's extent, `margin` of it wider on each side (`least` where it has none),
+    and never beyond `within`."""
+    for limit, v in ((ax.set_xlim, x), (ax.set_ylim, y)):
+        pad = margin * (v.max() - v.min()) or least
+        limit(max(v.min() - pad, within[0]), min(v.max() + pad, within[1]))
+
+
+def draw_steps(ax, h):
+    """A 1D histogram as filled steps."""
+    ax.stairs(h.counts, h.edges[0], fill=True, alpha=0.4)
+    ax.stairs(h.counts, h.edges[0])
+
+
 def draw_histogram(ax, run, name, auto=False):
     h = runfile.Histogram.of(run["histograms/" + name])
     if h.counts.ndim == 2:
@@ -165,8 +200,7 @@ def draw_histogram(ax, run, name, auto=False):
                 equal=both_coordinates(*h.axes), auto=auto)
         ax.set_ylabel(symbol(h.axes[1]))
     else:
-        ax.stairs(h.counts, h.edges[0], fill=True, alpha=0.4)
-        ax.stairs(h.counts, h.edges[0])
+        draw_steps(ax, h)
         ax.set_ylabel("samples per bin")
         ax.set_ylim(bottom=0)
         if auto and h.counts.any():
@@ -189,10 +223,7 @@ def draw_section(ax, run, name, color_by, auto=False):
     capped = g.attrs["crossings"] > points
     if points and not capped:
         orbit = g.datasets["orbit"]
-        if points > MAX_POINTS:  # a fixed subset, the same on every call
-            keep = np.sort(np.random.default_rng(0).choice(points, MAX_POINTS, replace=False))
-        else:
-            keep = slice(None)
+        keep = subset(points)
         cmap = "viridis"
         if color_by == "orbit":  # one colour per orbit, cycling through 20
             value, label, cmap = orbit[keep] % 20, "orbit (mod 20)", "tab20"
@@ -213,9 +244,7 @@ def draw_section(ax, run, name, color_by, auto=False):
         shown = f"{min(points, MAX_POINTS)} of {points} points" if points > MAX_POINTS else \
             f"{points} points"
         if auto:  # the data's own extent, 2% wider
-            for limit, v in ((ax.set_xlim, x), (ax.set_ylim, y)):
-                pad = 0.02 * (v.max() - v.min()) or 0.5
-                limit(v.min() - pad, v.max() + pad)
+            fit(ax, x, y, 0.02, 0.5)
         else:
             ax.set_xlim(x_edges[0], x_edges[-1])
             ax.set_ylim(y_edges[0], y_edges[-1])
@@ -271,9 +300,255 @@ def draw_image(ax, run):
     note(ax, outside_note(h))
 
 
-def items(run, color_by, auto=False):
+# The tunes of [tunes] (/tunes): each orbit's two tunes over steps 1..N and N+1..2N, in cycles per
+# step within [0, 1/2], and their diffusion log10 |Δν|.
+RESONANCE_ORDER = 4  # the resonance lines drawn by default: |m| + |n| up to this
+MAX_RESONANCE_ORDER = 20
+DIFFUSION = r"log$_{10}$ |$\Delta\nu$|"
+ESCAPED = "0.8"  # the colour of the orbits without tunes (escaped) over the initial points
+MESH_LINES = 60  # a footprint's mesh joins every k-th point of a larger grid, as many lines at most
+
+
+def initial(run, name):
+    return run["initial/" + name]
+
+
+def varying(run):
+    """The coordinates whose initial values differ over the ensemble."""
+    return [c for c in COORDINATES if np.ptp(initial(run, c)) > 0]
+
+
+def lattice(run):
+    """A grid's two coordinates, the outer one of the orbits' order first, and the values of
+    each, from the initial points; None unless the run is a grid over two varying coordinates."""
+    names = varying(run)
+    if run.attrs["ensemble"] != "grid" or len(names) != 2:
+        return None
+    values = [np.unique(initial(run, c)) for c in names]
+    if len(values[0]) * len(values[1]) != len(initial(run, names[0])):  # a shard of it
+        return None
+    first = initial(run, names[0]).reshape(len(values[0]), -1)
+    if not (first == first[:, :1]).all():  # the second coordinate is the outer one
+        names, values = names[::-1], values[::-1]
+    return names, values
+
+
+def amplitude(run):
+    """Each orbit's initial distance from the origin over the coordinates that vary, its label."""
+    names = varying(run) or list(COORDINATES)
+    squares = " + ".join(symbol(c).strip("$") + "^2" for c in names)
+    return np.sqrt(sum(initial(run, c) ** 2 for c in names)), f"amplitude $\\sqrt{{{squares}}}$"
+
+
+def dot(points):
+    """The area of a tune's dot among `points`: 4 pt wide for a few hundred, 1 pt for 10^5."""
+    return pt(min(4.0, max(1.0, 300 / math.sqrt(max(points, 1))))) ** 2
+
+
+def tunes_note(tunes, drawn, coloured=False):
+    """The orbits drawn and escaped; where colours show the diffusion, those at its floor."""
+    a = tunes.attrs
+    floor = f",\n{a['round_off']} at the round-off floor (lowest colour)" \
+        if coloured and a["round_off"] else ""
+    return f"{drawn} orbits; {a['escaped']} escaped (no tunes){floor}"
+
+
+def resonances(order, box):
+    """(m, n, k) of each resonance line m ν1 + n ν2 = k with 1 <= |m| + |n| <= order through the
+    inside of box ((x0, x1), (y0, y1)), each line once (gcd(m, n, k) = 1, the first nonzero of
+    m, n positive), lowest order first."""
+    corners = [(x, y) for x in box[0] for y in box[1]]
+    found = []
+    for o in range(1, order + 1):
+        for m in range(o + 1):
+            for n in sorted({o - m, m - o} - ({-o} if m == 0 else set())):
+                values = [m * x + n * y for x, y in corners]
+                found += [(m, n, k) for k in range(math.floor(min(values)) + 1,
+                                                   math.ceil(max(values)))
+                          if math.gcd(m, n, k) == 1]
+    return found
+
+
+def crossing(m, n, k, box):
+    """The two ends of the line m x + n y = k within the box, the left one first."""
+    (x0, x1), (y0, y1) = box
+    ends = [(x, (k - m * x) / n) for x in (x0, x1) if n] + \
+           [((k - n * y) / m, y) for y in (y0, y1) if m]
+    ends = sorted((x, y) for x, y in ends if x0 <= x <= x1 and y0 <= y <= y1)
+    return ends[0], ends[-1]
+
+
+def resonance_label(m, n, k):
+    """(2, -1, 0) -> $2\\nu_1-\\nu_2=0$."""
+    terms = "".join(("-" if c < 0 else "+" if j and m else "") +
+                    (str(abs(c)) if abs(c) != 1 else "") + rf"\nu_{j + 1}"
+                    for j, c in enumerate((m, n)) if c)
+    return f"${terms}={k}$"
+
+
+def draw_resonances(ax, order):
+    """The resonance lines up to `order` across the Axes' box, each labelled along itself, lighter
+    and thinner as the order rises; the labels at staggered places along their lines."""
+    box = (ax.get_xlim(), ax.get_ylim())
+    width = plt.rcParams["lines.linewidth"]
+    for i, (m, n, k) in enumerate(resonances(order, box)):
+        rise = (abs(m) + abs(n) - 1) / max(order - 1, 1)  # 0 for the first order, 1 for the last
+        shade = str(round(0.2 + 0.5 * rise, 3))
+        (xa, ya), (xb, yb) = crossing(m, n, k, box)
+        ax.plot([xa, xb], [ya, yb], color=shade, linewidth=width * (0.8 - 0.5 * rise), zorder=0.5)
+        at = 0.2 + 0.6 * (i * 0.618 % 1)
+        ax.text(xa + at * (xb - xa), ya + at * (yb - ya), resonance_label(m, n, k), color=shade,
+                fontsize=pt(6), ha="center", va="bottom", zorder=3, clip_on=True,
+                rotation=math.degrees(math.atan2(yb - ya, xb - xa)),
+                transform_rotates_text=True, rotation_mode="anchor")
+
+
+def fit_tunes(ax, nu1, nu2):
+    """Axes over the tunes' extent, 5% wider, within [0, 1/2]; all of it, saying so, without
+    tunes."""
+    if nu1.size:
+        fit(ax, nu1, nu2, 0.05, 0.01, within=(0.0, 0.5))
+    else:
+        ax.set_xlim(0.0, 0.5)
+        ax.set_ylim(0.0, 0.5)
+        ax.text(0.5, 0.5, "no tunes", transform=ax.transAxes, ha="center", va="center")
+
+
+def tune_axes(ax):
+    ax.set_xlabel(f"{symbol('nu1')} (cycles per step)")
+    ax.set_ylabel(f"{symbol('nu2')} (cycles per step)")
+
+
+def draw_frequency_map(ax, run, order):
+    """Each orbit's tunes coloured by their diffusion, the most diffusive on top, over the tunes'
+    extent; without per-orbit data the 2D histogram of the tunes."""
+    tunes = run["tunes"]
+    if "nu1" in tunes.datasets:
+        nu1, nu2, diffusion = (tunes.datasets[n] for n in ("nu1", "nu2", "diffusion"))
+        drawn = np.flatnonzero(np.isfinite(nu1) & np.isfinite(nu2))
+        drawn = drawn[subset(drawn.size)]
+        drawn = drawn[np.argsort(diffusion[drawn], kind="stable")]
+        if drawn.size:
+            dots = ax.scatter(nu1[drawn], nu2[drawn], c=diffusion[drawn], cmap="plasma",
+                              s=dot(drawn.size), linewidths=0, rasterized=True)
+            ax.figure.colorbar(dots, ax=ax, label=DIFFUSION)
+        fit_tunes(ax, nu1[drawn], nu2[drawn])
+        note(ax, tunes_note(tunes, f"{drawn.size} of {nu1.size}", coloured=True))
+    else:
+        h = runfile.Histogram.of(tunes["frequency_map"])
+        draw_2d(ax, h.counts, h.edges[0], h.edges[1], "orbits per bin (log)", auto=True)
+        note(ax, f"{tunes_note(tunes, h.counts.sum())}\n{outside_note(h)}")
+    draw_resonances(ax, order)
+    tune_axes(ax)
+    ax.set_title(f"frequency map, {tunes.attrs['window']} steps a window" +
+                 (f", resonances to order {order}" if order else ""), fontsize=pt(10))
+
+
+def draw_diffusion_map(ax, run, grid):
+    """The diffusion over a grid's two coordinates, the escaped orbits in their own colour."""
+    (x, y), values = grid
+    diffusion = run["tunes/diffusion"].reshape(len(values[0]), len(values[1]))
+    mesh = ax.pcolormesh(cell_edges(values[0]), cell_edges(values[1]), diffusion.T,
+                         cmap=matplotlib.colormaps["plasma"].with_extremes(bad=ESCAPED),
+                         rasterized=True)
+    ax.figure.colorbar(mesh, ax=ax, label=DIFFUSION)
+    missing, escaped = int(np.isnan(diffusion).sum()), run["tunes"].attrs["escaped"]
+    if missing:  # the escaped orbits, and any whose signals are both 0
+        label = f"escaped ({escaped})" if missing == escaped else \
+            f"no tune ({missing}, {escaped} escaped)"
+        ax.legend(handles=[matplotlib.patches.Patch(color=ESCAPED, label=label)],
+                  fontsize=pt(7), loc="upper right")
+    ax.set_xlabel(f"{symbol(x)} (initial)")
+    ax.set_ylabel(f"{symbol(y)} (initial)")
+    ax.set_aspect("equal")
+    ax.set_title("diffusion of the tunes over the initial points", fontsize=pt(10))
+    note(ax, tunes_note(run["tunes"], diffusion.size - missing, coloured=True))
+
+
+def draw_footprint(ax, run, grid):
+    """ν2 against ν1 coloured by the initial amplitude: a grid's neighbours joined into a mesh."""
+    nu1, nu2 = run["tunes/nu1"], run["tunes/nu2"]
+    size, label = amplitude(run)
+    drawn = np.isfinite(nu1) & np.isfinite(nu2)
+    norm = matplotlib.colors.Normalize()
+    norm.autoscale_None(size[drawn] if drawn.any() else size)
+    if grid:
+        shape = tuple(len(v) for v in grid[1])
+        k = math.ceil(max(shape) / MESH_LINES)
+        at = np.stack([nu1, nu2], axis=-1).reshape(*shape, 2)[::k, ::k]
+        a = size.reshape(shape)[::k, ::k]
+        ends = [(at[:-1], at[1:], a[:-1], a[1:]), (at[:, :-1], at[:, 1:], a[:, :-1], a[:, 1:])]
+        segments = np.concatenate([np.stack([p, q], axis=-2).reshape(-1, 2, 2)
+                                   for p, q, _, _ in ends])
+        colour = np.concatenate([(u + v).ravel() / 2 for _, _, u, v in ends])
+        joined = np.isfinite(segments).all(axis=(1, 2))
+        ax.add_collection(matplotlib.collections.LineCollection(
+            segments[joined], array=colour[joined], cmap="viridis", norm=norm,
+            linewidths=0.6 * plt.rcParams["lines.linewidth"]))
+    dots = ax.scatter(nu1[drawn], nu2[drawn], c=size[drawn], cmap="viridis", norm=norm,
+                      s=dot(drawn.sum()), linewidths=0, rasterized=True)
+    ax.figure.colorbar(dots, ax=ax, label=label)
+    fit_tunes(ax, nu1[drawn], nu2[drawn])
+    tune_axes(ax)
+    mesh = "" if not grid else ", neighbours of the grid joined" if k == 1 else \
+        f", grid points {k} apart joined"
+    ax.set_title("tune footprint" + mesh, fontsize=pt(10))
+    note(ax, tunes_note(run["tunes"], f"{drawn.sum()} of {drawn.size}"))
+
+
+def draw_tune_amplitude(ax, run):
+    """A line's tunes against the coordinate that varies most along it."""
+    name = max(varying(run), key=lambda c: np.ptp(initial(run, c)))
+    for j in (1, 2):
+        ax.plot(initial(run, name), run[f"tunes/nu{j}"], "o-", ms=pt(3), label=symbol(f"nu{j}"))
+    ax.set_xlabel(f"{symbol(name)} (initial)")
+    ax.set_ylabel("tune (cycles per step)")
+    ax.legend(fontsize=pt(7), loc="upper right")
+    ax.set_title("tunes along the line", fontsize=pt(10))
+    tunes = run["tunes"]
+    note(ax, tunes_note(tunes, int(np.isfinite(tunes.datasets["nu1"]).sum())))
+
+
+def draw_tune_diffusion(ax, run):
+    """The histogram of the diffusion, the round-off floor marked."""
+    tunes = run["tunes"]
+    g = tunes["histograms/diffusion"]
+    h = runfile.Histogram.of(g)
+    draw_steps(ax, h)
+    floor = tunes.attrs["diffusion_floor"]
+    if h.edges[0][0] <= floor <= h.edges[0][-1]:
+        ax.axvline(floor, color="black", linestyle="--", linewidth=1,
+                   label=f"round-off floor 2$^{{-53}}$: {tunes.attrs['round_off']} orbits")
+        ax.legend(fontsize=pt(7), loc="upper right")
+    ax.set_xlabel(DIFFUSION)
+    ax.set_ylabel("orbits per bin")
+    ax.set_ylim(bottom=0)
+    ax.set_title("diffusion of the tunes", fontsize=pt(10))
+    note(ax, f"median {g.attrs['median']:.3g} (quartiles {g.attrs['q1']:.3g}, "
+             f"{g.attrs['q3']:.3g}); {tunes.attrs['escaped']} escaped\n{outside_note(h)}")
+
+
+def tune_items(run, order):
+    """The pictures of /tunes: the frequency map; with per-orbit data, a grid's diffusion over its
+    plane, the footprint and a line's tunes along it; the diffusion's histogram."""
+    tunes = run["tunes"]
+    out = [("frequency-map", lambda ax: draw_frequency_map(ax, run, order))]
+    if "nu1" in tunes.datasets and "initial" in run.groups:
+        grid = lattice(run)
+        if grid:
+            out.append(("diffusion-map", lambda ax: draw_diffusion_map(ax, run, grid)))
+        out.append(("tune-footprint", lambda ax: draw_footprint(ax, run, grid)))
+        if run.attrs["ensemble"] == "line" and varying(run):
+            out.append(("tune-amplitude", lambda ax: draw_tune_amplitude(ax, run)))
+    if "histograms/diffusion" in tunes:
+        out.append(("tune-diffusion", lambda ax: draw_tune_diffusion(ax, run)))
+    return out
+
+
+def items(run, color_by, auto=False, resonance_order=RESONANCE_ORDER):
     """(output name, drawing function of an Axes) for every picture of the run, in order;
-    `auto`: the densities and sections over their data's extent, not the configured ranges."""
+    `auto`: the densities and sections over their data's extent, not the configured ranges;
+    `resonance_order`: the frequency map's resonance lines up to that order."""
     out = []
     for name in run.get("histograms", runfile.Group("/histograms")).groups:
         out.append((f"histogram-{name}", lambda ax, n=name: draw_histogram(ax, run, n, auto)))
@@ -283,6 +558,8 @@ def items(run, color_by, auto=False):
     out.append(("drift", lambda ax: draw_drift(ax, run)))
     if "invariants/image" in run:
         out.append(("energy-momentum", lambda ax: draw_image(ax, run)))
+    if "tunes" in run.groups:
+        out += tune_items(run, resonance_order)
     return out
 
 
@@ -416,16 +693,20 @@ def default_colouring(run):
     return "orbit"
 
 
-def plot(path, out_dir, fmt="png", dpi=200, color_by=None, auto=False, style_name="screen"):
+def plot(path, out_dir, fmt="png", dpi=200, color_by=None, auto=False, style_name="screen",
+         resonance_order=RESONANCE_ORDER):
     """Writes every picture of the run at `path` into `out_dir` in the style named; returns the
     paths written."""
     global style
+    if not 0 <= resonance_order <= MAX_RESONANCE_ORDER:
+        raise ValueError(f"--resonance-order {resonance_order}: must be 0 (no lines) to "
+                         f"{MAX_RESONANCE_ORDER}")
     style = STYLES[style_name]
     with matplotlib.rc_context(style["rc"]):
-        return plot_in_style(path, out_dir, fmt, dpi, color_by, auto)
+        return plot_in_style(path, out_dir, fmt, dpi, color_by, auto, resonance_order)
 
 
-def plot_in_style(path, out_dir, fmt, dpi, color_by, auto):
+def plot_in_style(path, out_dir, fmt, dpi, color_by, auto, resonance_order):
     run = runfile.load(path, skip=UNUSED + ("sweep/runs/*",))
     if "sweep" in run.groups:
         out_dir = pathlib.Path(out_dir)
@@ -448,7 +729,7 @@ def plot_in_style(path, out_dir, fmt, dpi, color_by, auto):
         raise runfile.FileError(f"{out_dir}: cannot create ({e.strerror})") from e
     stem = pathlib.Path(path).stem
     written = []
-    pictures = items(run, color_by, auto)
+    pictures = items(run, color_by, auto, resonance_order)
     for name, draw in pictures:
         fig = plt.figure(figsize=style["image"], layout="constrained")
         fig.suptitle(run_title(run, 90 * style["image"][0] / 6.4 / style["scale"]), fontsize=pt(9))
@@ -483,12 +764,16 @@ def main(argv):
                         "over their data's extent")
     parser.add_argument("--style", choices=tuple(STYLES), default="screen",
                         help="screen (default), or paper: a journal column's width and type")
+    parser.add_argument("--resonance-order", type=int, default=RESONANCE_ORDER, metavar="N",
+                        help="the frequency map's resonance lines m ν1 + n ν2 = k with |m| + |n| "
+                        f"up to N, 0 for none (default {RESONANCE_ORDER}, at most "
+                        f"{MAX_RESONANCE_ORDER})")
     args = parser.parse_args(argv)
     if args.dpi <= 0:
         parser.error(f"--dpi {args.dpi}: must be positive")
     try:
         plot(args.file, args.out_dir, args.format, args.dpi, args.color_by, args.range == "auto",
-             args.style)
+             args.style, args.resonance_order)
     except runfile.FileError as e:
         print(f"qmaps-plot: {e}", file=sys.stderr)
         return 3

@@ -189,6 +189,17 @@ class Run(Group):
         visit(self)
         return found
 
+    def tunes(self):
+        """Each orbit's tunes (docs/tunes.md), {"nu1", "nu2", "nu1_second", "nu2_second",
+        "diffusion", "class"}: arrays of shape (orbits,), NaN where an orbit has no tune. Raises
+        KeyError for a run without [tunes], FileError for one without per-orbit data."""
+        group = self["tunes"]
+        names = ("nu1", "nu2", "nu1_second", "nu2_second", "diffusion", "class")
+        if not all(n in group.datasets for n in names):
+            raise FileError(f"{self.file}: no per-orbit tunes (the run was written with "
+                            "[output] per_orbit = false); its histograms are in histograms()")
+        return {n: group.datasets[n] for n in names}
+
     def dataset(self, path):
         """The h5py dataset at `path` ("sections/q1up/x"): its slices read only what they ask."""
         group, _, name = path.strip("/").rpartition("/")

@@ -9,6 +9,7 @@
 
 #include "core/ensemble.hpp"
 #include "core/ops.hpp"
+#include "core/run_plan.hpp"
 
 namespace qmaps {
 
@@ -39,7 +40,7 @@ struct InvariantTrack {
 
   // Past the map's invariants (count of max_invariants) the registers hold 0 and track nothing:
   // the sampling loop has a fixed trip count, unrolled.
-  void load(Read columns, std::size_t orbit) {
+  void load(Read columns, std::size_t orbit, const RunPlan&, std::size_t) {
     count = columns.size() / 2;
     for (std::size_t k = 0; k < Map::max_invariants; ++k) {
       initial[k] = k < count ? ops::load<V>(&columns[2 * k][orbit]) : V(0.0);

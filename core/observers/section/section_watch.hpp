@@ -219,6 +219,8 @@ class BlockSections {
 
   // Whether the sections must be checked step by step: too many to watch in a chunk.
   bool step_by_step() const { return sections_ && count_ == 0; }
+  // Whether a chunk watches them (through watching()).
+  bool watched() const { return count_ > 0; }
 
   // Calls f(watch) with the chunk's watch from step `chunk_first`, and keeps its crossings' count.
   template <class F>

@@ -19,6 +19,7 @@ void describe_invariant_image(const RunRecord& run, MeasuredOutput& out);
 void describe_densities(const RunRecord& run, MeasuredOutput& out);
 void describe_sections(const RunRecord& run, MeasuredOutput& out);
 void describe_chaos(const RunRecord& run, MeasuredOutput& out);
+void describe_tunes(const RunRecord& run, MeasuredOutput& out);
 void describe_trajectories(const RunRecord& run, MeasuredOutput& out);
 
 struct RunObserver {
@@ -31,6 +32,7 @@ inline constexpr RunObserver run_observers[] = {
     {describe_densities, true},
     {describe_sections, true},
     {describe_chaos, false},
+    {describe_tunes, false},
     {describe_trajectories, true},
 };
 
