@@ -241,7 +241,7 @@ try:
 except KeyboardInterrupt as e:
     print("interrupted:", e)
 print("left:", os.listdir(folder))
-run = qmaps.run(config, ensemble={"orbits": 100}, run={"steps": 10})  # still usable
+run = qmaps.run(config, ensemble={"orbits": 100}, run={"steps": 64})  # still usable
 print("after:", run.attrs["orbits"])
 """
 
@@ -336,7 +336,7 @@ def test_a_spec_is_read_and_checked_before_it_runs_and_runs_once(configs, tmp_pa
     spec = qmaps.spec(configs["suris"], tmpdir=tmp_path, **SETS)
     assert (spec.map, spec.orbits, spec.steps, spec.points) == ("suris", 501, 120, 1)
     assert spec.params["h"] > 0 and spec.invariants == ["H", "I1", "I2"]
-    assert spec.measured == [] and "501 orbits x 120 steps" in repr(spec)
+    assert spec.measured == ["tunes"] and "501 orbits x 120 steps" in repr(spec)
     with spec.run() as run:
         run.save(tmp_path / "spec.h5")
     with pytest.raises(qmaps.ConfigError, match="a spec runs once"):

@@ -90,7 +90,9 @@ def run(directory, name, text, *sets):
     return out
 
 
-class Tunes(unittest.TestCase):
+class InFolder(unittest.TestCase):
+    """Tests that run in one scratch folder of their class."""
+
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
@@ -99,6 +101,9 @@ class Tunes(unittest.TestCase):
     @classmethod
     def tearDownClass(cls):
         cls.tmp.cleanup()
+
+
+class Tunes(InFolder):
 
     def starts(self, name, params, line):
         """Each orbit's two-step start (q1_0, q2_0, q1_1, q2_1), from a run of 0 steps."""
@@ -176,18 +181,9 @@ def qmaps(directory, *args, env=None):
                           text=True, cwd=directory, env={**os.environ, **(env or {})})
 
 
-class TunesOfRuns(unittest.TestCase):
+class TunesOfRuns(InFolder):
     """Bad [tunes] tables, orbits escaping within the windows, interruptions, and the diffusion's
     classes against MEGNO's on the non-integrable flow."""
-
-    @classmethod
-    def setUpClass(cls):
-        cls.tmp = tempfile.TemporaryDirectory()
-        cls.dir = pathlib.Path(cls.tmp.name)
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.tmp.cleanup()
 
     def test_a_bad_table_is_refused_naming_its_key_and_line(self):
         cases = [("window = 100", "tunes.window", "power of two"),

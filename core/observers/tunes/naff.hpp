@@ -10,7 +10,8 @@
 //            k = 1 .. M/2 − 1, and the ratio r of its larger neighbour to it, which places a pure
 //            tone at k ± δ bins, δ = ((p + 1) r − p)/(1 + r) (to O(M⁻²): |X(u)| ∝
 //            |sin πu / (u Π_{j≤p} (j² − u²))| at u bins from the tone);
-//   refine   Newton's method on g = |F|² over the whole window: with m = n − (N − 1)/2, the sums F
+//   refine   Newton's method on g = |F|² over the whole window (windowed in place first where
+//            nothing else reads the signals, the same products): with m = n − (N − 1)/2, the sums F
 //            and S1 = Σ m y_n e^{−iωn} by Goertzel's recurrence s_n = y_n + 2 cos ω s_{n−1} − s_{n−2}
 //            (Σ y_n e^{iω(N−1−n)} = s_{N−1} − e^{−iω} s_{N−2}: a phase common to both, which
 //            cancels), and g″ as a pure tone's, −2|F|²κ:
@@ -49,16 +50,25 @@ void search(const double* signal, const NaffTables& t, V (&omega)[2]) {
     ops::store(at, y1);
     ops::store(at + W, y2);
   }
-  // radix 2, decimation in time: a ± b·e^{−2πi j/(2 half)}; the first stage's twiddle is 1
-  for (std::size_t i = 0; i < n; i += 2)
-    for (std::size_t part = 0; part < 2; ++part) {
-      double* a = z + (2 * i + part) * W;
-      double* b = a + 2 * W;
-      const V x = ops::load<V>(a), y = ops::load<V>(b);
-      ops::store(a, x + y);
-      ops::store(b, x - y);
-    }
-  for (std::size_t half = 2; half < n; half *= 2) {
+  // radix 2, decimation in time: a ± b·e^{−2πi j/(2 half)}; the first two stages' twiddles, 1
+  // and −i, at once
+  for (std::size_t i = 0; i < n; i += 4) {
+    double* at = z + 2 * i * W;
+    const auto part = [&](std::size_t k, std::size_t im) { return ops::load<V>(at + (2 * k + im) * W); };
+    const V s0r = part(0, 0) + part(1, 0), s0i = part(0, 1) + part(1, 1);
+    const V d0r = part(0, 0) - part(1, 0), d0i = part(0, 1) - part(1, 1);
+    const V s1r = part(2, 0) + part(3, 0), s1i = part(2, 1) + part(3, 1);
+    const V d1r = part(2, 0) - part(3, 0), d1i = part(2, 1) - part(3, 1);  // times −i: (d1i, −d1r)
+    ops::store(at, s0r + s1r);
+    ops::store(at + W, s0i + s1i);
+    ops::store(at + 4 * W, s0r - s1r);
+    ops::store(at + 5 * W, s0i - s1i);
+    ops::store(at + 2 * W, d0r + d1i);
+    ops::store(at + 3 * W, d0i - d1r);
+    ops::store(at + 6 * W, d0r - d1i);
+    ops::store(at + 7 * W, d0i + d1r);
+  }
+  for (std::size_t half = 4; half < n; half *= 2) {
     const std::size_t stride = n / (2 * half);
     for (std::size_t i = 0; i < n; i += 2 * half)
       for (std::size_t j = 0; j < half; ++j) {
@@ -113,10 +123,24 @@ void search(const double* signal, const NaffTables& t, V (&omega)[2]) {
   }
 }
 
-// Newton's steps over the whole window from omega on the lanes `active`, each lane until its
+// The signals times the window of N steps, in place: refine<true> then reads them as they are.
+template <class V>
+void apply_window(double* signal, const NaffTables& t) {
+  constexpr std::size_t W = ops::lanes<V>;
+  for (std::size_t i = 0; i < static_cast<std::size_t>(t.n); ++i) {
+    const V w(t.weight[i]);
+    for (std::size_t d = 0; d < 2; ++d) {
+      double* at = signal + (2 * i + d) * W;
+      ops::store(at, w * ops::load<V>(at));
+    }
+  }
+}
+
+// Newton's steps over the whole window (of the signals, or windowed: already times the window)
+// from omega on the lanes `active`, each lane until its
 // step is below the tolerance or after most_steps; active then holds those that had not
 // converged, and power |F|² where each lane was last evaluated.
-template <class V>
+template <bool windowed = false, class V>
 void refine(const double* signal, const NaffTables& t, V (&omega)[2], ops::mask_t<V> (&active)[2],
             V (&power)[2]) {
   constexpr std::size_t W = ops::lanes<V>;
@@ -136,7 +160,8 @@ void refine(const double* signal, const NaffTables& t, V (&omega)[2], ops::mask_
     for (std::size_t i = 0; i < n; ++i) {
       const V w(t.weight[i]);
       for (int d = 0; d < 2; ++d) {
-        const V y = w * ops::load<V>(signal + (2 * i + static_cast<std::size_t>(d)) * W);
+        const V x = ops::load<V>(signal + (2 * i + static_cast<std::size_t>(d)) * W);
+        const V y = windowed ? x : w * x;
         const V f = ops::fma(k[d], f1[d], y) - f2[d];
         f2[d] = f1[d];
         f1[d] = f;
