@@ -117,9 +117,12 @@ struct Tunes : TuneColumns {
     naff::refine(signal_, t, omega, active, power);
     const V half_bin(naff::pi / static_cast<double>(window_));
     Mask lost[2];
-    for (int d = 0; d < 2; ++d)
-      lost[d] = active[d] | ops::negate(finite(omega_[d])) |
-                (ops::abs(omega[d] - omega_[d]) > half_bin) | (V(4.0) * power[d] < power_[d]);
+    for (int d = 0; d < 2; ++d) {
+      const Mask none_first = ops::negate(finite(omega_[d]));
+      const Mask moved = ops::abs(omega[d] - omega_[d]) > half_bin;
+      const Mask fainter = V(4.0) * power[d] < power_[d];
+      lost[d] = active[d] | none_first | moved | fainter;
+    }
     if (ops::any(lost[0] | lost[1])) {
       V fresh[2], fresh_power[2] = {V(0.0), V(0.0)};
       naff::search(signal_, t, fresh);
