@@ -2,7 +2,8 @@
 // orbits of the box [−0.5, 0.5]⁴ on 2 threads and 8 chains, on each SIMD ISA here: 2 × 2048 steps
 // stepped raw, then the same steps with both windows' tunes (NAFF of q1 and q2) and the diffusion.
 // items_per_second = orbit-steps/s; the ratio of a path's two rows is the tunes' price:
-//   build/bench/tunes_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   build/bench/tunes_bench --benchmark_repetitions=15 --benchmark_enable_random_interleaving=true
+//       --benchmark_report_aggregates_only=true   (the rows interleaved: the noise falls on each alike)
 #include <benchmark/benchmark.h>
 
 #include <string>

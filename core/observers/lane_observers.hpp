@@ -24,7 +24,6 @@
 // and the merge iterate the list, and none of them names a measurement.
 #include <algorithm>
 #include <cstddef>
-#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -66,16 +65,15 @@ struct LaneTuple<Map, V, LaneList<M...>> {
   using each = Each<M<Map, V>...>;
 };
 
-// The doubles of a step's record, summed over the measurements of a tuple (one records, at most).
+// The index in a tuple of the measurement that records steps (at most one), its size where none.
 template <class Tuple, std::size_t... i>
-constexpr std::size_t record_size(std::index_sequence<i...>) {
-  const auto of = []<class M>(M*) -> std::size_t {
-    if constexpr (RecordsSteps<M>) return M::record_size;
-    else return 0;
-  };
-  static_assert((std::size_t{0} + ... + (RecordsSteps<std::tuple_element_t<i, Tuple>> ? 1 : 0)) <= 1,
+constexpr std::size_t recorder_index(std::index_sequence<i...>) {
+  constexpr bool records[] = {false, RecordsSteps<std::tuple_element_t<i, Tuple>>...};
+  static_assert((std::size_t{0} + ... + (records[i + 1] ? 1 : 0)) <= 1,
                 "at most one lane measurement records steps");
-  return (std::size_t{0} + ... + of(static_cast<std::tuple_element_t<i, Tuple>*>(nullptr)));
+  for (std::size_t j = 0; j < sizeof...(i); ++j)
+    if (records[j + 1]) return j;
+  return sizeof...(i);
 }
 
 template <template <class, class> class Wanted, template <class, class> class... M>
@@ -100,6 +98,10 @@ class LaneObservers {
   using Tuple = typename detail::LaneTuple<Map, V, LaneMeasurements>::type;
   using All = typename detail::LaneTuple<Map, V, LaneMeasurements>::each;
   static constexpr std::size_t count = std::tuple_size_v<Tuple>;
+  static constexpr std::size_t recorder_at =
+      detail::recorder_index<Tuple>(std::make_index_sequence<count>{});
+  static constexpr bool has_recorder = recorder_at < count;
+  using Recorder = std::tuple_element_t<has_recorder ? recorder_at : 0, Tuple>;
 
  public:
   // The columns of every measurement for this map, in list order.
@@ -137,50 +139,37 @@ class LaneObservers {
         if (on_[i]) m.sample(c, x, alive);
     });
   }
-  // The measurements that record steps: the last step any records, the next stop after n.
+  // The measurement that records steps, where the list has one and the run turned it on: the
+  // last step it records (0: none), its next stop after n, where a step's record goes, the state x
+  // as that record (record_size doubles), and the stop `step` reached.
   long long records_until() const {
-    long long until = 0;
-    each([&]<class M>(const M& m, std::size_t i) {
-      if constexpr (RecordsSteps<M>)
-        if (on_[i]) until = std::max(until, m.records_until());
-    });
-    return until;
+    if constexpr (has_recorder) return on_[recorder_at] ? recorder().records_until() : 0;
+    else return 0;
   }
   long long next_stop(long long n) const {
-    long long stop = std::numeric_limits<long long>::max();
-    each([&]<class M>(const M& m, std::size_t i) {
-      if constexpr (RecordsSteps<M>)
-        if (on_[i] && m.records_until() > n) stop = std::min(stop, m.next_stop(n));
-    });
-    return stop;
+    if constexpr (has_recorder) return recorder().next_stop(n);
+    else return n;
   }
-  // The recording measurement's record of a step: its doubles, where it goes (null: none
-  // records), and the state x as that record.
-  static constexpr std::size_t record_size =
-      detail::record_size<Tuple>(std::make_index_sequence<count>{});
   double* records_at(long long step) const {
-    double* at = nullptr;
-    each([&]<class M>(const M& m, std::size_t i) {
-      if constexpr (RecordsSteps<M>)
-        if (on_[i] && step <= m.records_until()) at = m.records_at(step);
-    });
-    return at;
+    if constexpr (has_recorder)
+      if (step <= records_until()) return recorder().records_at(step);
+    return nullptr;
   }
+  static constexpr std::size_t record_size = [] {
+    if constexpr (has_recorder) return Recorder::record_size;
+    else return std::size_t{0};
+  }();
   static void record_at(const typename Map::Coeffs& c, const typename Map::template State<V>& x,
                         double* at) {
-    each_type([&]<class M>(std::size_t) {
-      if constexpr (RecordsSteps<M>) M::record(c, x, at);
-    });
+    if constexpr (has_recorder) Recorder::record(c, x, at);
   }
   void record(const typename Map::Coeffs& c, long long step,
               const typename Map::template State<V>& x) {
     if (double* at = records_at(step)) record_at(c, x, at);
   }
   void reached(long long step, ops::mask_t<V> alive) {
-    each([&]<class M>(M& m, std::size_t i) {
-      if constexpr (RecordsSteps<M>)
-        if (on_[i] && m.records_until() >= step) m.reached(step, alive);
-    });
+    if constexpr (has_recorder)
+      if (step <= records_until()) recorder().reached(step, alive);
   }
   void store(Ensemble& e, std::size_t orbit) const {
     each([&](const auto& m, std::size_t i) {
@@ -207,6 +196,9 @@ class LaneObservers {
       (f(static_cast<const std::tuple_element_t<i, Tuple>&>(measures_), i), ...);
     }(std::make_index_sequence<count>{});
   }
+
+  Recorder& recorder() { return measures_; }
+  const Recorder& recorder() const { return measures_; }
 
   All measures_;
   bool on_[count] = {};

@@ -226,9 +226,7 @@ void write_output(const h5::Group& root, const MeasuredOutput& out, Rows rows, b
     } else if (const auto* share = std::get_if<MeasuredOutput::Share>(&a.value)) {
       std::int64_t of = 0;
       for (const auto& name : share->of) of += summed.at({a.group, name});
-      g.attr(a.name, of > 0 ? static_cast<double>(summed.at({a.group, share->part})) /
-                                  static_cast<double>(of)
-                            : std::nan(""));
+      g.attr(a.name, MeasuredOutput::share(summed.at({a.group, share->part}), of));
     } else {
       std::visit([&](const auto& v) {
         if constexpr (!std::is_same_v<std::decay_t<decltype(v)>, MeasuredOutput::Share>)

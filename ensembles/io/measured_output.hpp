@@ -11,6 +11,7 @@
 // Over the ranks of qmaps-mpi each rank describes its own orbits, alike.
 // Kept items point at the state a run accumulates while it steps (its Observers); the rest are
 // computed from the orbits when the file is written, and a merge computes them again.
+#include <cmath>
 #include <cstdint>
 #include <deque>
 #include <string>
@@ -32,6 +33,9 @@ struct MeasuredOutput {
     std::vector<std::string> of;
   };
   using Value = std::variant<std::int64_t, double, std::string, Share>;
+  static double share(std::int64_t part, std::int64_t of) {
+    return of > 0 ? static_cast<double>(part) / static_cast<double>(of) : std::nan("");
+  }
   enum class Over { same, summed };  // a value the same on every rank, or a count each holds part of
   struct Attribute {
     std::string group, name;

@@ -10,9 +10,10 @@
 //            k = 1 .. M/2 − 1, and the ratio r of its larger neighbour to it, which places a pure
 //            tone at k ± δ bins, δ = ((p + 1) r − p)/(1 + r) (to O(M⁻²): |X(u)| ∝
 //            |sin πu / (u Π_{j≤p} (j² − u²))| at u bins from the tone);
-//   refine   Newton's method on g = |F|² over the whole window (windowed in place first where
-//            nothing else reads the signals, the same products): with m = n − (N − 1)/2, the sums F
-//            and S1 = Σ m y_n e^{−iωn} by Goertzel's recurrence s_n = y_n + 2 cos ω s_{n−1} − s_{n−2}
+//   refine   Newton's method on g = |F|² over the whole window (windowed in place at its first
+//            pass where nothing else reads the signals, the same products): with m = n − (N − 1)/2,
+//            the sums F and S1 = Σ m y_n e^{−iωn} by Goertzel's recurrence
+//              s_n = 2 cos ω s_{n−1} + (y_n − s_{n−2})
 //            (Σ y_n e^{iω(N−1−n)} = s_{N−1} − e^{−iω} s_{N−2}: a phase common to both, which
 //            cancels), and g″ as a pure tone's, −2|F|²κ:
 //              ω ← ω + (Re F · Im S1 − Im F · Re S1)/(|F|² κ),
@@ -41,24 +42,34 @@ void search(const double* signal, const NaffTables& t, V (&omega)[2]) {
   const std::size_t n = t.m;
   double* z = naff_scratch(fft_slot, 2 * n * W);  // Z_k: re at 2kW, im at (2k + 1)W
   V energy[2] = {V(0.0), V(0.0)};
-  for (std::size_t i = 0; i < n; ++i) {
-    const V w(t.search_weight[i]);
-    const V y1 = w * ops::load<V>(signal + 2 * i * W), y2 = w * ops::load<V>(signal + (2 * i + 1) * W);
-    energy[0] = energy[0] + y1 * y1;
-    energy[1] = energy[1] + y2 * y2;
-    double* at = z + 2 * static_cast<std::size_t>(t.reversed[i]) * W;
-    ops::store(at, y1);
-    ops::store(at + W, y2);
-  }
-  // radix 2, decimation in time: a ± b·e^{−2πi j/(2 half)}; the first two stages' twiddles, 1
-  // and −i, at once
+  // radix 2, decimation in time: a ± b·e^{−2πi j/(2 half)}, stage by stage, two stages per pass
+  // over z where they can (each pass a load and a store of every point; the same operations in
+  // the same order as one stage per pass)
+  const auto butterfly = [&](V& ar, V& ai, V& br, V& bi, std::size_t twiddle) {
+    const V c(t.cos_twiddle[twiddle]), s(t.sin_twiddle[twiddle]);
+    const V tr = ops::fma(br, c, bi * s), ti = ops::fms(bi, c, br * s);
+    br = ar - tr;
+    bi = ai - ti;
+    ar = ar + tr;
+    ai = ai + ti;
+  };
+  // the first two stages (twiddles 1 and −i) straight from the windowed signal: z's point p is
+  // input reversed[p] (the bit reversal is its own inverse)
   for (std::size_t i = 0; i < n; i += 4) {
+    V re[4], im[4];
+    for (std::size_t q = 0; q < 4; ++q) {
+      const std::size_t r = t.reversed[i + q];
+      const V w(t.search_weight[r]);
+      re[q] = w * ops::load<V>(signal + 2 * r * W);
+      im[q] = w * ops::load<V>(signal + (2 * r + 1) * W);
+      energy[0] = energy[0] + re[q] * re[q];
+      energy[1] = energy[1] + im[q] * im[q];
+    }
+    const V s0r = re[0] + re[1], s0i = im[0] + im[1];
+    const V d0r = re[0] - re[1], d0i = im[0] - im[1];
+    const V s1r = re[2] + re[3], s1i = im[2] + im[3];
+    const V d1r = re[2] - re[3], d1i = im[2] - im[3];  // times −i: (d1i, −d1r)
     double* at = z + 2 * i * W;
-    const auto part = [&](std::size_t k, std::size_t im) { return ops::load<V>(at + (2 * k + im) * W); };
-    const V s0r = part(0, 0) + part(1, 0), s0i = part(0, 1) + part(1, 1);
-    const V d0r = part(0, 0) - part(1, 0), d0i = part(0, 1) - part(1, 1);
-    const V s1r = part(2, 0) + part(3, 0), s1i = part(2, 1) + part(3, 1);
-    const V d1r = part(2, 0) - part(3, 0), d1i = part(2, 1) - part(3, 1);  // times −i: (d1i, −d1r)
     ops::store(at, s0r + s1r);
     ops::store(at + W, s0i + s1i);
     ops::store(at + 4 * W, s0r - s1r);
@@ -68,22 +79,39 @@ void search(const double* signal, const NaffTables& t, V (&omega)[2]) {
     ops::store(at + 6 * W, d0r - d1i);
     ops::store(at + 7 * W, d0i + d1r);
   }
-  for (std::size_t half = 4; half < n; half *= 2) {
-    const std::size_t stride = n / (2 * half);
-    for (std::size_t i = 0; i < n; i += 2 * half)
+  std::size_t half = 4;
+  for (; 2 * half < n; half *= 4) {  // the stages half and 2·half in one pass
+    const std::size_t first = n / (2 * half), second = n / (4 * half);  // their twiddles' strides
+    for (std::size_t i = 0; i < n; i += 4 * half)
       for (std::size_t j = 0; j < half; ++j) {
-        const V c(t.cos_twiddle[j * stride]), s(t.sin_twiddle[j * stride]);
-        double* a = z + 2 * (i + j) * W;
-        double* b = z + 2 * (i + j + half) * W;
-        const V br = ops::load<V>(b), bi = ops::load<V>(b + W);
-        const V tr = ops::fma(br, c, bi * s), ti = ops::fms(bi, c, br * s);
-        const V ar = ops::load<V>(a), ai = ops::load<V>(a + W);
-        ops::store(a, ar + tr);
-        ops::store(a + W, ai + ti);
-        ops::store(b, ar - tr);
-        ops::store(b + W, ai - ti);
+        double* at[4];
+        V re[4], im[4];
+        for (std::size_t q = 0; q < 4; ++q) {
+          at[q] = z + 2 * (i + j + q * half) * W;
+          re[q] = ops::load<V>(at[q]);
+          im[q] = ops::load<V>(at[q] + W);
+        }
+        butterfly(re[0], im[0], re[1], im[1], j * first);
+        butterfly(re[2], im[2], re[3], im[3], j * first);
+        butterfly(re[0], im[0], re[2], im[2], j * second);
+        butterfly(re[1], im[1], re[3], im[3], (j + half) * second);
+        for (std::size_t q = 0; q < 4; ++q) {
+          ops::store(at[q], re[q]);
+          ops::store(at[q] + W, im[q]);
+        }
       }
   }
+  if (half < n)  // the last stage alone
+    for (std::size_t j = 0; j < half; ++j) {
+      double* a = z + 2 * j * W;
+      double* b = z + 2 * (j + half) * W;
+      V ar = ops::load<V>(a), ai = ops::load<V>(a + W), br = ops::load<V>(b), bi = ops::load<V>(b + W);
+      butterfly(ar, ai, br, bi, j);
+      ops::store(a, ar);
+      ops::store(a + W, ai);
+      ops::store(b, br);
+      ops::store(b + W, bi);
+    }
   // 4|X_d|² at bin k, of a batch or of one lane's values
   const auto powers = [](auto kr, auto ki, auto mr, auto mi, int d) {
     return d == 0 ? (kr + mr) * (kr + mr) + (ki - mi) * (ki - mi)
@@ -123,54 +151,60 @@ void search(const double* signal, const NaffTables& t, V (&omega)[2]) {
   }
 }
 
-// The signals times the window of N steps, in place: refine<true> then reads them as they are.
-template <class V>
-void apply_window(double* signal, const NaffTables& t) {
-  constexpr std::size_t W = ops::lanes<V>;
-  for (std::size_t i = 0; i < static_cast<std::size_t>(t.n); ++i) {
-    const V w(t.weight[i]);
-    for (std::size_t d = 0; d < 2; ++d) {
-      double* at = signal + (2 * i + d) * W;
-      ops::store(at, w * ops::load<V>(at));
-    }
-  }
-}
+// How refine reads the signals: times the window at every pass (they stay as recorded), or
+// times the window once, written back in place at the first pass and read so afterwards (where
+// nothing else reads them: the same products, and no pass of its own over memory).
+enum class Reading { windowing_each_pass, windowing_in_place };
 
-// Newton's steps over the whole window (of the signals, or windowed: already times the window)
-// from omega on the lanes `active`, each lane until its
+// Newton's steps over the whole window from omega on the lanes `active`, each lane until its
 // step is below the tolerance or after most_steps; active then holds those that had not
 // converged, and power |F|² where each lane was last evaluated.
-template <bool windowed = false, class V>
-void refine(const double* signal, const NaffTables& t, V (&omega)[2], ops::mask_t<V> (&active)[2],
+template <Reading reading = Reading::windowing_each_pass, class V>
+void refine(double* signal, const NaffTables& t, V (&omega)[2], ops::mask_t<V> (&active)[2],
             V (&power)[2]) {
   constexpr std::size_t W = ops::lanes<V>;
   const auto n = static_cast<std::size_t>(t.n);
   const double bin = 2 * pi / static_cast<double>(t.n);
   const V limit(bin / 2), tolerance(bin * 1e-7), half_turn(pi), turn(2 * pi), kappa(t.curvature);
+  const auto at = [&](std::size_t i, int d) { return signal + (2 * i + static_cast<std::size_t>(d)) * W; };
+  const auto windowing = [&](std::size_t i, int d) { return V(t.weight[i]) * ops::load<V>(at(i, d)); };
+  const auto windowing_in_place = [&](std::size_t i, int d) {
+    const V y = V(t.weight[i]) * ops::load<V>(at(i, d));
+    ops::store(at(i, d), y);
+    return y;
+  };
+  const auto windowed = [&](std::size_t i, int d) { return ops::load<V>(at(i, d)); };
   for (int step = 0; step < most_steps && ops::any(active[0] | active[1]); ++step) {
     V s[2], c[2], k[2];
     for (int d = 0; d < 2; ++d) {
       ops::sin_cos(omega[d], s[d], c[d]);
       k[d] = c[d] + c[d];
     }
-    // Goertzel's states s_{n−1}, s_{n−2} of y (f) and of m y (g)
+    // Goertzel's states of y (f) and of m y (g): s_{n−1} in f1, g1 and s_{n−2} in f2, g2 at even
+    // n. Two steps per iteration, each writing s_n over s_{n−2}: nothing moves. s_{n−2} is
+    // subtracted first, off the chain through s_{n−1}: one fma per step on it.
     V f1[2] = {V(0.0), V(0.0)}, f2[2] = {V(0.0), V(0.0)};
     V g1[2] = {V(0.0), V(0.0)}, g2[2] = {V(0.0), V(0.0)};
-    V m(-0.5 * static_cast<double>(n - 1));
-    for (std::size_t i = 0; i < n; ++i) {
-      const V w(t.weight[i]);
-      for (int d = 0; d < 2; ++d) {
-        const V x = ops::load<V>(signal + (2 * i + static_cast<std::size_t>(d)) * W);
-        const V y = windowed ? x : w * x;
-        const V f = ops::fma(k[d], f1[d], y) - f2[d];
-        f2[d] = f1[d];
-        f1[d] = f;
-        const V g = ops::fma(k[d], g1[d], m * y) - g2[d];
-        g2[d] = g1[d];
-        g1[d] = g;
+    const auto pass = [&](auto input) {
+      V m(-0.5 * static_cast<double>(n - 1));  // exact: a half-integer
+      for (std::size_t i = 0; i < n; i += 2) {
+        const V next_m = m + V(1.0);
+        for (int d = 0; d < 2; ++d) {
+          const V y = input(i, d);
+          f2[d] = ops::fma(k[d], f1[d], y - f2[d]);
+          g2[d] = ops::fma(k[d], g1[d], ops::fms(m, y, g2[d]));
+        }
+        for (int d = 0; d < 2; ++d) {
+          const V y = input(i + 1, d);
+          f1[d] = ops::fma(k[d], f2[d], y - f1[d]);
+          g1[d] = ops::fma(k[d], g2[d], ops::fms(next_m, y, g1[d]));
+        }
+        m = m + V(2.0);
       }
-      m = m + V(1.0);
-    }
+    };
+    if (reading == Reading::windowing_each_pass) pass(windowing);
+    else if (step == 0) pass(windowing_in_place);
+    else pass(windowed);
     for (int d = 0; d < 2; ++d) {
       const V fr = f1[d] - c[d] * f2[d], fi = s[d] * f2[d];
       const V gr = g1[d] - c[d] * g2[d], gi = s[d] * g2[d];

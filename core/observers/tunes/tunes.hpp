@@ -105,8 +105,7 @@ struct Tunes : TuneColumns {
     naff::search(signal_, t, omega_);
     Mask active[2] = {finite(omega_[0]), finite(omega_[1])};
     power_[0] = power_[1] = V(0.0);
-    naff::apply_window<V>(signal_, t);
-    naff::refine<true>(signal_, t, omega_, active, power_);
+    naff::refine<naff::Reading::windowing_in_place>(signal_, t, omega_, active, power_);
     value[nu1] = omega_[0] * V(per_turn);
     value[nu2] = omega_[1] * V(per_turn);
   }

@@ -34,11 +34,6 @@ ChaosTable chaos_table(const Model& model, const Ensemble& e, double megno_thres
   return t;
 }
 
-double ChaosTable::chaotic_fraction() const {
-  return regular + chaotic > 0 ? static_cast<double>(chaotic) / static_cast<double>(regular + chaotic)
-                               : std::nan("");
-}
-
 bool ChaosTable::logarithmic(std::size_t k) const { return names[k].starts_with("gali"); }
 
 std::string ChaosTable::histogram_name(std::size_t k) const {

@@ -7,15 +7,14 @@
 
 #include "core/ensemble.hpp"
 #include "core/model.hpp"
+#include "ensembles/io/run_observers/orbit_classes.hpp"
 
 namespace qmaps {
 
-struct ChaosTable {
+struct ChaosTable : OrbitClasses {
   std::vector<std::string> names;           // indicator_names(): lyapunov, fli, megno, …
   std::vector<std::vector<double>> values;  // [indicator][orbit]
   std::vector<std::uint8_t> classes;
-  std::int64_t regular = 0, chaotic = 0, escaped = 0;
-  double chaotic_fraction() const;  // chaotic / (regular + chaotic); NaN when every orbit escaped
   bool logarithmic(std::size_t k) const;  // the GALIs are summarized as log10
   std::string histogram_name(std::size_t k) const;  // "log10_gali2" for a GALI
   // Indicator k (log10 where logarithmic) over the orbits that stayed bounded, where finite.

@@ -8,16 +8,16 @@
 
 #include "core/aligned_array.hpp"
 #include "core/ensemble.hpp"
+#include "ensembles/io/run_observers/orbit_classes.hpp"
 
 namespace qmaps {
 
-struct TuneTable {
+struct TuneTable : OrbitClasses {
   // nu1, nu2, nu1_second, nu2_second, diffusion (empty: the run has no tunes)
   std::span<const AlignedArray<double>> columns;
   std::vector<std::uint8_t> classes;
-  std::int64_t regular = 0, chaotic = 0, escaped = 0, no_tune = 0;
+  std::int64_t no_tune = 0;
   std::int64_t round_off = 0;  // orbits whose diffusion is the floor: tunes equal to round-off
-  double chaotic_fraction() const;  // chaotic / (regular + chaotic); NaN when none has a tune
   // Column c's finite values, orbit by orbit.
   std::vector<double> finite(std::size_t c) const;
 };

@@ -30,11 +30,6 @@ TuneTable tune_table(const Ensemble& e, double diffusion_threshold) {
   return t;
 }
 
-double TuneTable::chaotic_fraction() const {
-  return regular + chaotic > 0 ? static_cast<double>(chaotic) / static_cast<double>(regular + chaotic)
-                               : std::nan("");
-}
-
 std::vector<double> TuneTable::finite(std::size_t c) const {
   std::vector<double> out;
   for (std::size_t i = 0; i < classes.size(); ++i)
