@@ -1,0 +1,42 @@
+// libFuzzer target: a map's formulas as `[map]` gives them. The input is the text of the
+// assignments over q1, q2, p1, p2 with parameters a, b and zero = 0. Parsing and lowering must
+// either succeed or throw qmaps::formula::FormulaError; a program made must run on any state
+// (its values may be anything, never a crash), and each expression printed back must parse to
+// the same text. Any other exception, a crash or a sanitizer report is a finding.
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "kernels/formula/evaluate.hpp"
+#include "kernels/formula/expression.hpp"
+#include "kernels/formula/program.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  using namespace qmaps::formula;
+  const std::string_view text(reinterpret_cast<const char*>(data), size);
+  try {
+    const Formulas f = parse_assignments(text);
+    for (const Assignment& a : f.assignments) {
+      const std::string printed = to_text(f, a.root);
+      const Formulas again = parse_expression(printed);
+      if (to_text(again, again.assignments[0].root) != printed)
+        throw std::logic_error("printed back differently: " + printed);
+    }
+    const std::vector<std::string> inputs = {"q1", "q2", "p1", "p2"};
+    Lowering lowering(f, inputs, {{"a", 0.5}, {"b", -3.0}, {"zero", 0.0}});
+    lowering.assign_all();
+    std::vector<std::uint16_t> outputs;
+    for (const auto& name : inputs) outputs.push_back(lowering.value_of(name, {}));
+    const Program p = lowering.finish(outputs);
+    std::vector<double> r(p.registers());
+    for (const double x : {0.0, 0.25, -1e300, 1e-310}) {
+      for (std::size_t k = 0; k < inputs.size(); ++k) r[k] = x * static_cast<double>(k + 1);
+      load_constants(p, r.data(), 1);
+      run<double, 1>(p, r.data());
+    }
+  } catch (const FormulaError&) {
+  }
+  return 0;
+}

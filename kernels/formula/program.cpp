@@ -1,0 +1,159 @@
+#include "kernels/formula/program.hpp"
+
+#include <bit>
+#include <cmath>
+
+#include "kernels/formula/evaluate.hpp"
+
+namespace qmaps::formula {
+namespace {
+
+constexpr bool commutative(Code code) { return code == Code::add || code == Code::mul; }
+
+}  // namespace
+
+Lowering::Lowering(const Formulas& f, const std::vector<std::string>& inputs,
+                   const std::vector<std::pair<std::string, double>>& parameters)
+    : f_(f), inputs_(inputs.size()), parameters_(parameters), used_(parameters.size(), false) {
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    inputs_by_name_[inputs[k]] = static_cast<std::uint16_t>(k);
+}
+
+void Lowering::assign_all() {
+  for (const Assignment& a : f_.assignments) {
+    for (const auto& parameter : parameters_)
+      if (parameter.first == a.name)
+        throw FormulaError(a.at, "'" + a.name + "' is a parameter; it cannot be assigned");
+    names_[a.name] = value(a.root);
+  }
+}
+
+std::uint16_t Lowering::value_of(const std::string& name, Position at) {
+  if (const auto it = names_.find(name); it != names_.end()) return it->second;
+  if (const auto it = inputs_by_name_.find(name); it != inputs_by_name_.end()) return it->second;
+  for (std::size_t k = 0; k < parameters_.size(); ++k)
+    if (parameters_[k].first == name) {
+      used_[k] = true;
+      return constant(parameters_[k].second);
+    }
+  std::string known;
+  for (const auto& [input, r] : inputs_by_name_) known += (known.empty() ? "" : ", ") + input;
+  for (const auto& [parameter, v] : parameters_) known += (known.empty() ? "" : ", ") + parameter;
+  throw FormulaError(at, "unknown symbol '" + name + "' (known here: " + known + ")");
+}
+
+std::uint16_t Lowering::next_register(Position at) {
+  if (inputs_ + values_.size() >= max_instructions)
+    throw FormulaError(at, "the formulas need more than " + std::to_string(max_instructions) +
+                               " values");
+  return static_cast<std::uint16_t>(inputs_ + values_.size());
+}
+
+std::uint16_t Lowering::constant(double number) {
+  const auto bits = std::bit_cast<std::uint64_t>(number);
+  if (const auto it = constants_.find(bits); it != constants_.end()) return it->second;
+  const std::uint16_t r = next_register({});
+  values_.push_back({true, number, {}});
+  constants_[bits] = r;
+  return r;
+}
+
+std::uint16_t Lowering::emit(Code code, std::uint16_t a, std::uint16_t b, std::uint16_t c,
+                             Position at) {
+  const bool binary = code == Code::add || code == Code::sub || code == Code::mul ||
+                      code == Code::div || code == Code::fma;
+  if (code != Code::fma) c = 0;
+  if (!binary) b = 0;
+  if (code == Code::div && is_constant(b) && number_at(b) == 0)
+    throw FormulaError(at, "a division by zero: the parameters make the divisor 0");
+  if (is_constant(a) && (!binary || is_constant(b)) && (code != Code::fma || is_constant(c))) {
+    const double number = apply<double>(code, number_at(a), binary ? number_at(b) : 0.0,
+                                        code == Code::fma ? number_at(c) : 0.0);
+    if (!std::isfinite(number))
+      throw FormulaError(at, "the parameters make this value " + number_text(number));
+    return constant(number);
+  }
+  // a·b and b·a are one value (IEEE products and sums commute exactly)
+  const auto key = commutative(code) && b < a ? std::tuple{code, b, a, c} : std::tuple{code, a, b, c};
+  if (const auto it = seen_.find(key); it != seen_.end()) return it->second;
+  const std::uint16_t r = next_register(at);
+  values_.push_back({false, 0, {code, r, a, b, c}});
+  seen_[key] = r;
+  return r;
+}
+
+std::uint16_t Lowering::power(std::uint16_t base, int exponent, Position at) {
+  if (exponent == 0) return constant(1.0);
+  const int n = exponent < 0 ? -exponent : exponent;
+  // binary powering from the highest bit: x^n = (x^(n/2))² · x^(n mod 2)
+  std::uint16_t result = base;
+  for (int bit = std::bit_width(static_cast<unsigned>(n)) - 2; bit >= 0; --bit) {
+    result = emit(Code::mul, result, result, 0, at);
+    if ((n >> bit) & 1) result = emit(Code::mul, result, base, 0, at);
+  }
+  return exponent < 0 ? emit(Code::div, constant(1.0), result, 0, at) : result;
+}
+
+std::uint16_t Lowering::value(int i) {
+  const Node& n = f_.nodes.at(static_cast<std::size_t>(i));
+  switch (n.op) {
+    case Op::number: return constant(n.number);
+    case Op::symbol: return value_of(n.name, n.at);
+    case Op::neg: return emit(Code::neg, value(n.a), 0, 0, n.at);
+    case Op::power: return power(value(n.a), n.exponent, n.at);
+    case Op::fma: {
+      const std::uint16_t a = value(n.a), b = value(n.b);
+      return emit(Code::fma, a, b, value(n.c), n.at);
+    }
+    default: break;
+  }
+  if (n.b >= 0) {
+    const std::uint16_t a = value(n.a);
+    const std::uint16_t b = value(n.b);
+    const Code code = n.op == Op::add ? Code::add : n.op == Op::sub ? Code::sub
+                    : n.op == Op::mul ? Code::mul : Code::div;
+    return emit(code, a, b, 0, n.at);
+  }
+  const Code code = n.op == Op::sqrt ? Code::sqrt : n.op == Op::sin ? Code::sin
+                  : n.op == Op::cos ? Code::cos : n.op == Op::exp ? Code::exp : Code::log;
+  return emit(code, value(n.a), 0, 0, n.at);
+}
+
+Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {
+  // what the outputs need, back from them (an instruction reads only earlier registers)
+  std::vector<bool> needed(inputs_ + values_.size(), false);
+  for (const std::uint16_t r : outputs) needed[r] = true;
+  for (std::size_t k = values_.size(); k-- > 0;) {
+    const Value& v = values_[k];
+    if (!needed[inputs_ + k] || v.constant) continue;
+    needed[v.made.a] = true;
+    if (v.made.code == Code::add || v.made.code == Code::sub || v.made.code == Code::mul ||
+        v.made.code == Code::div || v.made.code == Code::fma)
+      needed[v.made.b] = true;
+    if (v.made.code == Code::fma) needed[v.made.c] = true;
+  }
+  Program p;
+  p.inputs = inputs_;
+  std::vector<std::uint16_t> final(inputs_ + values_.size(), 0);
+  for (std::size_t k = 0; k < inputs_; ++k) final[k] = static_cast<std::uint16_t>(k);
+  for (std::size_t k = 0; k < values_.size(); ++k)
+    if (needed[inputs_ + k] && values_[k].constant) {
+      final[inputs_ + k] = static_cast<std::uint16_t>(inputs_ + p.constants.size());
+      p.constants.push_back(values_[k].number);
+    }
+  const std::size_t first = inputs_ + p.constants.size();
+  for (std::size_t k = 0; k < values_.size(); ++k)
+    if (needed[inputs_ + k] && !values_[k].constant) {
+      Instruction i = values_[k].made;
+      final[inputs_ + k] = static_cast<std::uint16_t>(first + p.code.size());
+      i.out = final[inputs_ + k];
+      i.a = final[i.a];
+      i.b = final[i.b];
+      i.c = final[i.c];
+      p.code.push_back(i);
+    }
+  for (const std::uint16_t r : outputs) p.outputs.push_back(final[r]);
+  return p;
+}
+
+}  // namespace qmaps::formula

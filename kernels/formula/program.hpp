@@ -1,0 +1,86 @@
+#pragma once
+// Formulas lowered once to a straight-line program that evaluate.hpp runs over any value type.
+// Registers: the inputs first, then the constants (the numbers written and the parameters'
+// values), then one per instruction in order. Each (operation, operands) is computed once: a
+// common subexpression shares its register. An instruction whose operands are all constants is
+// computed here, by the same ops, into a constant (so a parameter's expression costs nothing per
+// step, and is refused where it is not finite: a division by a zero parameter). An integer power
+// is a product by binary powering (x⁵ = (x²)²·x), a negative one its reciprocal. Nothing is
+// reassociated, and a·b + c stays two roundings unless written fma: every path computes the same.
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <utility>
+#include <vector>
+
+#include "kernels/formula/expression.hpp"
+
+namespace qmaps::formula {
+
+inline constexpr std::size_t max_instructions = 4096;
+
+enum class Code : std::uint8_t { add, sub, mul, div, neg, fma, sqrt, sin, cos, exp, log };
+
+struct Instruction {
+  Code code;
+  std::uint16_t out, a, b, c;
+};
+
+struct Program {
+  std::size_t inputs = 0;
+  std::vector<double> constants;  // registers inputs .. inputs + constants.size() − 1
+  std::vector<Instruction> code;  // each writes a register of its own, after the constants
+  std::vector<std::uint16_t> outputs;
+  std::size_t registers() const { return inputs + constants.size() + code.size(); }
+};
+
+// Builds a program from the assignments of formulas over named inputs and parameters.
+class Lowering {
+ public:
+  Lowering(const Formulas& f, const std::vector<std::string>& inputs,
+           const std::vector<std::pair<std::string, double>>& parameters);
+
+  // The assignments in order: each name then denotes its value (a later one replaces it).
+  void assign_all();
+  // The register of node i's value, or of a name's current value (an input, a parameter or an
+  // assignment's; at: where it is asked for, in an error).
+  std::uint16_t value(int node);
+  std::uint16_t value_of(const std::string& name, Position at);
+  bool assigned(const std::string& name) const { return names_.contains(name); }
+  // A new instruction (or the register that already holds it, or its constant).
+  std::uint16_t emit(Code code, std::uint16_t a, std::uint16_t b = 0, std::uint16_t c = 0,
+                     Position at = {});
+  std::uint16_t constant(double value);
+  // The program whose outputs are these registers, without what none of them needs.
+  Program finish(const std::vector<std::uint16_t>& outputs) const;
+  // Whether parameter k was read.
+  const std::vector<bool>& parameters_used() const { return used_; }
+
+ private:
+  // Registers while the program grows ("provisional"): the inputs, then every constant and
+  // instruction in the order made; finish() numbers the constants before the instructions.
+  struct Value {
+    bool constant;
+    double number;     // a constant's
+    Instruction made;  // an instruction's, over provisional registers
+  };
+  bool is_constant(std::uint16_t r) const { return r >= inputs_ && values_[r - inputs_].constant; }
+  double number_at(std::uint16_t r) const { return values_[r - inputs_].number; }
+  std::uint16_t next_register(Position at);
+  std::uint16_t power(std::uint16_t base, int exponent, Position at);
+
+  const Formulas& f_;
+  std::size_t inputs_;
+  std::vector<std::pair<std::string, double>> parameters_;
+  std::vector<bool> used_;
+  std::map<std::string, std::uint16_t, std::less<>> names_;  // the assignments' current values
+  std::map<std::string, std::uint16_t, std::less<>> inputs_by_name_;
+  std::vector<Value> values_;
+  std::map<std::uint64_t, std::uint16_t> constants_;  // by bit pattern
+  std::map<std::tuple<Code, std::uint16_t, std::uint16_t, std::uint16_t>, std::uint16_t> seen_;
+};
+
+}  // namespace qmaps::formula

@@ -1,0 +1,210 @@
+// The formulas (kernels/formula/): the parser's trees and its errors' positions, the lowering's
+// shared subexpressions, folded constants and refusals, the program over double and over a batch
+// (the same bytes), and exp against long double.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "core/ops_exp.hpp"
+#include "kernels/formula/evaluate.hpp"
+#include "kernels/formula/expression.hpp"
+#include "kernels/formula/program.hpp"
+
+namespace qmaps::formula {
+namespace {
+
+using Parameters = std::vector<std::pair<std::string, double>>;
+
+// The error of parsing and lowering `text` over inputs x, y with parameters a = 2, zero = 0.
+std::string error_of(const std::string& text) {
+  try {
+    const Formulas f = parse_assignments(text);
+    Lowering lowering(f, {"x", "y"}, Parameters{{"a", 2.0}, {"zero", 0.0}});
+    lowering.assign_all();
+  } catch (const FormulaError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// The program of `text`'s assignments over x, y whose outputs are x, y.
+Program program_of(const std::string& text, const Parameters& parameters = {{"a", 2.0}}) {
+  const Formulas f = parse_assignments(text);
+  Lowering lowering(f, {"x", "y"}, parameters);
+  lowering.assign_all();
+  return lowering.finish({lowering.value_of("x", {}), lowering.value_of("y", {})});
+}
+
+std::vector<double> run_double(const Program& p, double x, double y) {
+  std::vector<double> r(p.registers());
+  r[0] = x;
+  r[1] = y;
+  load_constants(p, r.data(), 1);
+  run<double, 1>(p, r.data());
+  return {r[p.outputs[0]], r[p.outputs[1]]};
+}
+
+TEST(FormulaParser, PrecedenceAndAssociativityFollowTheGrammar) {
+  const auto text_of = [](const std::string& e) {
+    const Formulas f = parse_expression(e);
+    return to_text(f, f.assignments[0].root);
+  };
+  EXPECT_EQ(text_of("a - b - c"), "a - b - c");
+  EXPECT_EQ(text_of("a - (b - c)"), "a - (b - c)");
+  EXPECT_EQ(text_of("a / b / c"), "a/b/c");
+  EXPECT_EQ(text_of("a / (b * c)"), "a/(b*c)");
+  EXPECT_EQ(text_of("-x^2"), "-x^2");
+  EXPECT_EQ(text_of("(-x)^2"), "(-x)^2");
+  EXPECT_EQ(text_of("x**-3"), "x^-3");
+  EXPECT_EQ(text_of("2*x + 3*y^4/z"), "2*x + 3*y^4/z");
+  EXPECT_EQ(text_of("fma(a, b, -c) + sqrt(s)"), "fma(a, b, -c) + sqrt(s)");
+  EXPECT_EQ(text_of("1.5e-3 * .25"), "0.0015*0.25");
+  EXPECT_EQ(text_of("+ - + x"), "-x");
+}
+
+TEST(FormulaParser, AssignmentsAreLinesOrSemicolonsWithComments) {
+  const Formulas f = parse_assignments("# a kick\n  p = p - h*q^3   # the force\n\nq = q + h*p; r = q\n");
+  ASSERT_EQ(f.assignments.size(), 3u);
+  EXPECT_EQ(f.assignments[0].name, "p");
+  EXPECT_EQ(f.assignments[0].at.line, 2);
+  EXPECT_EQ(f.assignments[0].at.column, 3);
+  EXPECT_EQ(f.assignments[2].name, "r");
+  EXPECT_EQ(f.assignments[2].at.column, 14);
+}
+
+TEST(FormulaParser, ErrorsNameTheLineAndColumn) {
+  EXPECT_EQ(error_of("x = a*(y + 1"), "line 1, column 13: expected ')' to close the '(' at column 7, found the end");
+  EXPECT_EQ(error_of("x = y\ny = x +* 2"), "line 2, column 8: expected a number, a name or '(', found '*'");
+  EXPECT_EQ(error_of("x = y 2"), "line 1, column 7: unexpected '2' after the expression");
+  EXPECT_EQ(error_of("x = 2y"), "line 1, column 6: a name runs into a number (write '*')");
+  EXPECT_EQ(error_of("x = tan(y)"), "line 1, column 5: unknown function 'tan' (fma, sqrt, sin, cos, exp, log)");
+  EXPECT_EQ(error_of("x = fma(y, y)"), "line 1, column 5: fma takes 3 arguments, not 2");
+  EXPECT_EQ(error_of("x = y^1.5"), "line 1, column 7: a power's exponent must be an integer (write exp(y·log(x)) for another)");
+  EXPECT_EQ(error_of("x = y^2^3"), "line 1, column 8: a power of a power: write the parentheses, (x^a)^b");
+  EXPECT_EQ(error_of("x = y^65"), "line 1, column 7: a power's exponent is at most 64 in size");
+  EXPECT_EQ(error_of("x = 1e400"), "line 1, column 5: the number 1e400 is not a finite double");
+  EXPECT_EQ(error_of("= y"), "line 1, column 1: expected a name to assign, found '='");
+  EXPECT_EQ(error_of("x y"), "line 1, column 3: expected '=' after 'x', found 'y'");
+  EXPECT_EQ(error_of("   \n # nothing\n"), "line 3, column 1: no assignment");
+  EXPECT_EQ(error_of("x = y\t\x01"), "line 1, column 7: a character that is not printable ASCII");
+}
+
+TEST(FormulaParser, LimitsAreStatedAndEnforced) {
+  EXPECT_EQ(error_of("x = " + std::string(65, '(') + "y" + std::string(65, ')')),
+            "line 1, column 69: nested more than 64 deep");
+  EXPECT_EQ(error_of("x = " + std::string(64, '(') + "y" + std::string(64, ')')), "");
+  EXPECT_EQ(error_of("x = " + std::string(63, '(') + "sqrt(y" + std::string(64, ')')), "");
+  EXPECT_EQ(error_of("x = " + std::string(64, '(') + "sqrt(y" + std::string(65, ')')),
+            "line 1, column 69: nested more than 64 deep");
+  EXPECT_EQ(error_of("x = " + std::string(70, '-') + "y"), "line 1, column 69: nested more than 64 deep");
+  EXPECT_EQ(error_of("x = y" + std::string(max_text, ' ')),
+            "line 1, column 1: the formulas are 16389 characters long; at most 16384");
+  std::string many;
+  for (std::size_t k = 0; k <= max_assignments; ++k) many += "x = y\n";
+  EXPECT_EQ(error_of(many), "line 257, column 1: more than 256 assignments");
+  std::string wide;  // 256 × 17 values, none shared: x changes on every line
+  for (int k = 0; k < 256; ++k) wide += "x = x*x*x*x*x*x*x*x*x*x*x*x*x*x*x*x*x + y\n";
+  EXPECT_EQ(error_of(wide), "line 241, column 34: the formulas need more than 4096 values");
+}
+
+TEST(FormulaLowering, SymbolsAndParametersAreCheckedWhereWritten) {
+  EXPECT_EQ(error_of("x = y + b"), "line 1, column 9: unknown symbol 'b' (known here: x, y, a, zero)");
+  EXPECT_EQ(error_of("a = x"), "line 1, column 1: 'a' is a parameter; it cannot be assigned");
+  EXPECT_EQ(error_of("x = y / zero"), "line 1, column 7: a division by zero: the parameters make the divisor 0");
+  EXPECT_EQ(error_of("x = y / (a - 2)"), "line 1, column 7: a division by zero: the parameters make the divisor 0");
+  EXPECT_EQ(error_of("x = y * log(zero)"), "line 1, column 9: the parameters make this value -inf");
+  EXPECT_EQ(error_of("t = y\nx = t + u"), "line 2, column 9: unknown symbol 'u' (known here: x, y, a, zero)");
+  EXPECT_EQ(error_of("x = y / zero^0"), "");  // zero^0 = 1
+}
+
+TEST(FormulaLowering, SharesSubexpressionsFoldsConstantsAndDropsTheUnneeded) {
+  // x·y and y·x are one product; a² + 1 is a constant; t is never needed
+  const Program p = program_of("t = sin(x)\nx = x*y + y*x*(a^2 + 1)\ny = y^5");
+  EXPECT_EQ(p.inputs, 2u);
+  EXPECT_EQ(p.constants, std::vector<double>{5.0});
+  // x·y, (x·y)·5, their sum; y², y⁴, y⁴·y
+  ASSERT_EQ(p.code.size(), 6u);
+  EXPECT_EQ(p.code[0].code, Code::mul);
+  const auto out = run_double(p, 3.0, 2.0);
+  EXPECT_EQ(out[0], 6.0 + 30.0);
+  EXPECT_EQ(out[1], 32.0);
+  // a negative power is the reciprocal of the positive one; x^0 is 1
+  const Program q = program_of("x = x^-2\ny = y^0");
+  EXPECT_EQ(run_double(q, 4.0, 7.0), (std::vector<double>{1.0 / 16.0, 1.0}));
+}
+
+TEST(FormulaLowering, KeepsTheRoundingsAsWritten) {
+  // a·b + c rounds twice, fma(a, b, c) once: 1 + 2^-52 squared minus its rounded square
+  const double e = 1 + 0x1p-52;
+  const Program two = program_of("x = x*x - y");
+  const Program one = program_of("x = fma(x, x, -y)");
+  const double rounded = e * e;
+  EXPECT_EQ(run_double(two, e, rounded)[0], 0.0);
+  EXPECT_EQ(run_double(one, e, rounded)[0], 0x1p-104);
+}
+
+TEST(FormulaEvaluation, EveryLaneOfABatchIsTheDoublePath) {
+  using V = xsimd::batch<double>;
+  constexpr std::size_t W = V::size, lanes = 3;
+  const Program p = program_of(
+      "r = sqrt(x^2 + y^2)\nx = exp(-r) * cos(a*x) + log(1 + r^2)/(1 + y^4)\ny = fma(x, sin(y), r)");
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-3, 3);
+  std::vector<V> r(p.registers() * lanes);
+  alignas(64) double xs[lanes][W], ys[lanes][W];
+  for (std::size_t l = 0; l < lanes; ++l) {
+    for (std::size_t w = 0; w < W; ++w) {
+      xs[l][w] = u(rng);
+      ys[l][w] = u(rng);
+    }
+    r[0 * lanes + l] = V::load_aligned(xs[l]);
+    r[1 * lanes + l] = V::load_aligned(ys[l]);
+  }
+  load_constants(p, r.data(), lanes);
+  run<V, lanes>(p, r.data());
+  for (std::size_t l = 0; l < lanes; ++l) {
+    alignas(64) double x_out[W], y_out[W];
+    r[p.outputs[0] * lanes + l].store_aligned(x_out);
+    r[p.outputs[1] * lanes + l].store_aligned(y_out);
+    for (std::size_t w = 0; w < W; ++w) {
+      const auto expected = run_double(p, xs[l][w], ys[l][w]);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(x_out[w]), std::bit_cast<std::uint64_t>(expected[0]));
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(y_out[w]), std::bit_cast<std::uint64_t>(expected[1]));
+    }
+  }
+}
+
+// ulps between a double and a long double reference
+double ulps(double got, long double exact) {
+  const double nearest = static_cast<double>(exact);
+  const double ulp = std::nextafter(std::fabs(nearest), INFINITY) - std::fabs(nearest);
+  return static_cast<double>(std::fabs(static_cast<long double>(got) - exact) / ulp);
+}
+
+TEST(FormulaFunctions, ExpIsWithinOneUlpOfLongDouble) {
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> wide(-708, 709), narrow(-1, 1);
+  double worst = 0;
+  for (int k = 0; k < 200000; ++k) {
+    const double x = k % 2 ? wide(rng) : narrow(rng);
+    worst = std::max(worst, ulps(ops::exp(x), std::exp(static_cast<long double>(x))));
+  }
+  EXPECT_LT(worst, 1.0) << "exp's worst error against long double: " << worst << " ulp";
+  EXPECT_EQ(ops::exp(0.0), 1.0);
+  EXPECT_EQ(ops::exp(710.0), INFINITY);
+  EXPECT_EQ(ops::exp(INFINITY), INFINITY);
+  EXPECT_EQ(ops::exp(-INFINITY), 0.0);
+  EXPECT_EQ(ops::exp(-746.0), 0.0);
+  EXPECT_GT(ops::exp(-744.0), 0.0);  // subnormal
+  EXPECT_TRUE(std::isnan(ops::exp(NAN)));
+  for (const double x : {709.7, -708.3, 1e-300, -1e-17})
+    EXPECT_LT(ulps(ops::exp(x), std::exp(static_cast<long double>(x))), 1.0) << x;
+}
+
+}  // namespace
+}  // namespace qmaps::formula
