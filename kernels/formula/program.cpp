@@ -9,6 +9,11 @@ namespace qmaps::formula {
 namespace {
 
 constexpr bool commutative(Code code) { return code == Code::add || code == Code::mul; }
+// How many operands an instruction reads: a, then b, then c.
+constexpr int operands(Code code) {
+  if (code == Code::fma) return 3;
+  return code == Code::add || code == Code::sub || code == Code::mul || code == Code::div ? 2 : 1;
+}
 
 }  // namespace
 
@@ -60,8 +65,7 @@ std::uint16_t Lowering::constant(double number) {
 
 std::uint16_t Lowering::emit(Code code, std::uint16_t a, std::uint16_t b, std::uint16_t c,
                              Position at) {
-  const bool binary = code == Code::add || code == Code::sub || code == Code::mul ||
-                      code == Code::div || code == Code::fma;
+  const bool binary = operands(code) >= 2;
   if (code != Code::fma) c = 0;
   if (!binary) b = 0;
   if (code == Code::div && is_constant(b) && number_at(b) == 0)
@@ -127,10 +131,8 @@ Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {
     const Value& v = values_[k];
     if (!needed[inputs_ + k] || v.constant) continue;
     needed[v.made.a] = true;
-    if (v.made.code == Code::add || v.made.code == Code::sub || v.made.code == Code::mul ||
-        v.made.code == Code::div || v.made.code == Code::fma)
-      needed[v.made.b] = true;
-    if (v.made.code == Code::fma) needed[v.made.c] = true;
+    if (operands(v.made.code) >= 2) needed[v.made.b] = true;
+    if (operands(v.made.code) == 3) needed[v.made.c] = true;
   }
   Program p;
   p.inputs = inputs_;
