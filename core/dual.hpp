@@ -9,7 +9,8 @@
 // like the values, are the same bits on the scalar path and in every lane of every ISA. The
 // values are exactly those of the plain step: a value never reads a derivative.
 //
-// Comparisons and masks read the values only; floor's derivative is 0 and abs's is sign·d.
+// Comparisons and masks read the values only; floor's derivative is 0 and abs's is sign·d;
+// exp, log, sin and cos (the formulas' functions) differentiate as written beside each.
 // Calls are qualified (ops::neg, not neg): unqualified, argument-dependent lookup would find
 // xsimd's own neg, whose AVX-512 form is 0 − a (+0 → +0).
 #include <array>
@@ -17,6 +18,7 @@
 #include <type_traits>
 
 #include "core/ops.hpp"
+#include "core/ops_exp.hpp"
 
 namespace qmaps {
 
@@ -97,6 +99,31 @@ inline Dual<V, N> sqrt(const Dual<V, N>& a) {  // d·(1/(2√v))
   const V inverse = V(1.0) / (r.v + r.v);
   for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] * inverse;
   return r;
+}
+template <class V, std::size_t N>
+inline Dual<V, N> exp(const Dual<V, N>& a) {  // d·e^v
+  Dual<V, N> r;
+  r.v = ops::exp(a.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] * r.v;
+  return r;
+}
+template <class V, std::size_t N>
+inline Dual<V, N> log(const Dual<V, N>& a) {  // d/v
+  Dual<V, N> r;
+  r.v = ops::log(a.v);
+  for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] / a.v;
+  return r;
+}
+template <class V, std::size_t N>
+inline void sin_cos(const Dual<V, N>& a, Dual<V, N>& sine, Dual<V, N>& cosine) {
+  V s, c;  // (sin, cos)′ = (cos, −sin)·d
+  ops::sin_cos(a.v, s, c);
+  sine.v = s;
+  cosine.v = c;
+  for (std::size_t i = 0; i < N; ++i) {
+    sine.d[i] = a.d[i] * c;
+    cosine.d[i] = ops::neg(a.d[i] * s);
+  }
 }
 template <class V, std::size_t N>
 inline Dual<V, N> select(mask_t<V> m, const Dual<V, N>& a, const Dual<V, N>& b) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dual.hpp"
 #include "core/ops_exp.hpp"
 #include "kernels/formula/evaluate.hpp"
 #include "kernels/formula/expression.hpp"
@@ -176,6 +177,70 @@ TEST(FormulaEvaluation, EveryLaneOfABatchIsTheDoublePath) {
       EXPECT_EQ(std::bit_cast<std::uint64_t>(x_out[w]), std::bit_cast<std::uint64_t>(expected[0]));
       EXPECT_EQ(std::bit_cast<std::uint64_t>(y_out[w]), std::bit_cast<std::uint64_t>(expected[1]));
     }
+  }
+}
+
+// The program in long double with the C library's functions: the reference for differences.
+std::vector<long double> run_long_double(const Program& p, long double x, long double y) {
+  std::vector<long double> r(p.registers());
+  r[0] = x;
+  r[1] = y;
+  for (std::size_t k = 0; k < p.constants.size(); ++k) r[p.inputs + k] = p.constants[k];
+  for (const Instruction& i : p.code) {
+    const long double a = r[i.a], b = r[i.b], c = r[i.c];
+    long double v = 0;
+    switch (i.code) {
+      case Code::add: v = a + b; break;
+      case Code::sub: v = a - b; break;
+      case Code::mul: v = a * b; break;
+      case Code::div: v = a / b; break;
+      case Code::neg: v = -a; break;
+      case Code::fma: v = a * b + c; break;
+      case Code::sqrt: v = std::sqrt(a); break;
+      case Code::sin: v = std::sin(a); break;
+      case Code::cos: v = std::cos(a); break;
+      case Code::exp: v = std::exp(a); break;
+      case Code::log: v = std::log(a); break;
+    }
+    r[i.out] = v;
+  }
+  return {r[p.outputs[0]], r[p.outputs[1]]};
+}
+
+TEST(FormulaEvaluation, DualsGiveTheJacobianOfCentralDifferences) {
+  // the independent reference: central differences of the long double program, step 1e-6
+  constexpr double tangent_vs_central_difference = 1e-8;  // relative to the Jacobian's norm
+  const Program p = program_of(
+      "r = sqrt(x^2 + y^2)\nx = exp(-r) * cos(a*x) + log(1 + r^2)/(1 + y^4)\ny = fma(x, sin(y), r)");
+  using D = Dual<double, 2>;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-2, 2);
+  for (int trial = 0; trial < 100; ++trial) {
+    const double x = u(rng), y = u(rng);
+    std::vector<D> r(p.registers());
+    r[0] = D(x, {1.0, 0.0});
+    r[1] = D(y, {0.0, 1.0});
+    load_constants(p, r.data(), 1);
+    run<D, 1>(p, r.data());
+    const D out[2] = {r[p.outputs[0]], r[p.outputs[1]]};
+    // the values are the plain program's, bit for bit
+    const auto plain = run_double(p, x, y);
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(out[0].v), std::bit_cast<std::uint64_t>(plain[0]));
+    EXPECT_EQ(std::bit_cast<std::uint64_t>(out[1].v), std::bit_cast<std::uint64_t>(plain[1]));
+    const long double h = 1e-6L;
+    long double jacobian[2][2], norm = 0;
+    for (int j = 0; j < 2; ++j) {
+      const auto up = run_long_double(p, x + (j == 0 ? h : 0), y + (j == 1 ? h : 0));
+      const auto down = run_long_double(p, x - (j == 0 ? h : 0), y - (j == 1 ? h : 0));
+      for (int i = 0; i < 2; ++i) {
+        jacobian[i][j] = (up[i] - down[i]) / (2 * h);
+        norm = std::max(norm, std::fabs(jacobian[i][j]));
+      }
+    }
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        EXPECT_LT(std::fabs(out[i].d[j] - jacobian[i][j]), tangent_vs_central_difference * norm)
+            << "d out" << i << "/d in" << j << " at (" << x << ", " << y << ")";
   }
 }
 
