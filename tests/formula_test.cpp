@@ -149,6 +149,63 @@ TEST(FormulaLowering, KeepsTheRoundingsAsWritten) {
   EXPECT_EQ(run_double(one, e, rounded)[0], 0x1p-104);
 }
 
+// The equations e1 = 0, e2 = 0 of `text` over q, r (known) and unknowns u, v, solved: u, v and
+// the determinant at (q, r), with parameters a = 2, h = 0.1.
+std::vector<double> solved(const std::string& text, double q, double r) {
+  const Formulas f = parse_assignments(text);
+  Lowering lowering(f, {"q", "r", "u", "v"}, Parameters{{"a", 2.0}, {"h", 0.1}});
+  lowering.assign_all();
+  std::uint16_t determinant = 0;
+  const auto u = lowering.solve_linear({lowering.value_of("e1", {}), lowering.value_of("e2", {})},
+                                       {lowering.value_of("u", {}), lowering.value_of("v", {})},
+                                       "q_{n+1}", {1, 1}, determinant);
+  const Program p = lowering.finish({u[0], u[1], determinant});
+  std::vector<double> regs(p.registers(), 0.0);
+  regs[0] = q;
+  regs[1] = r;
+  load_constants(p, regs.data(), 1);
+  run<double, 1>(p, regs.data());
+  return {regs[p.outputs[0]], regs[p.outputs[1]], regs[p.outputs[2]]};
+}
+
+std::string solve_error(const std::string& text) {
+  try {
+    solved(text, 0.3, -0.2);
+  } catch (const FormulaError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(FormulaLowering, SolvesEquationsLinearInTheUnknowns) {
+  // a Kahan-like pair: linear in (u, v) with coefficients that depend on q and r
+  const std::string kahan =
+      "k = 1 + a*h^2*(q^2 + r^2)\n"
+      "e1 = (u - 2*q + r)/h^2 + a*q*(u + r)/k - q*v\n"
+      "e2 = fma(q, u, v) - (2*r - q)*sin(q)/k";
+  for (const auto& [q, r] : {std::pair{0.3, -0.2}, std::pair{-1.1, 0.7}, std::pair{2.0, 0.01}}) {
+    const auto x = solved(kahan, q, r);
+    const double k = 1 + 2.0 * 0.01 * (q * q + r * r);
+    const double e1 = (x[0] - 2 * q + r) / 0.01 + 2.0 * q * (x[0] + r) / k - q * x[1];
+    const double e2 = q * x[0] + x[1] - (2 * r - q) * std::sin(q) / k;
+    EXPECT_LT(std::fabs(e1), 1e-10) << q << ", " << r;
+    EXPECT_LT(std::fabs(e2), 1e-12) << q << ", " << r;
+    EXPECT_NE(x[2], 0.0);
+  }
+  // a determinant that vanishes at some states only: that state's own fault, not an error
+  const auto at_zero = solved("e1 = q*u + v - 1\ne2 = u + v/q", 1.0, 0.0);  // det = q·(1/q) − 1
+  EXPECT_EQ(at_zero[2], 0.0);
+}
+
+TEST(FormulaLowering, RefusesEquationsThatAreNotLinearWhereTheyStopBeing) {
+  EXPECT_EQ(solve_error("e1 = u*v - q\ne2 = u"), "line 1, column 7: not linear in q_{n+1}");
+  EXPECT_EQ(solve_error("e1 = u - q\ne2 = sin(v)"), "line 2, column 6: not linear in q_{n+1}");
+  EXPECT_EQ(solve_error("e1 = q/(u + 1)\ne2 = v"), "line 1, column 7: not linear in q_{n+1}");
+  EXPECT_EQ(solve_error("e1 = u^2\ne2 = v"), "line 1, column 7: not linear in q_{n+1}");
+  EXPECT_EQ(solve_error("e1 = u + v - q\ne2 = a*u + 2*v"),
+            "line 1, column 1: the equations for q_{n+1} are singular whatever the state");
+}
+
 TEST(FormulaEvaluation, EveryLaneOfABatchIsTheDoublePath) {
   using V = xsimd::batch<double>;
   constexpr std::size_t W = V::size, lanes = 3;

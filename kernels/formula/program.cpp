@@ -2,6 +2,7 @@
 
 #include <bit>
 #include <cmath>
+#include <map>
 
 #include "kernels/formula/evaluate.hpp"
 
@@ -58,7 +59,7 @@ std::uint16_t Lowering::constant(double number) {
   const auto bits = std::bit_cast<std::uint64_t>(number);
   if (const auto it = constants_.find(bits); it != constants_.end()) return it->second;
   const std::uint16_t r = next_register({});
-  values_.push_back({true, number, {}});
+  values_.push_back({true, number, {}, {}});
   constants_[bits] = r;
   return r;
 }
@@ -81,7 +82,7 @@ std::uint16_t Lowering::emit(Code code, std::uint16_t a, std::uint16_t b, std::u
   const auto key = commutative(code) && b < a ? std::tuple{code, b, a, c} : std::tuple{code, a, b, c};
   if (const auto it = seen_.find(key); it != seen_.end()) return it->second;
   const std::uint16_t r = next_register(at);
-  values_.push_back({false, 0, {code, r, a, b, c}});
+  values_.push_back({false, 0, {code, r, a, b, c}, at});
   seen_[key] = r;
   return r;
 }
@@ -121,6 +122,112 @@ std::uint16_t Lowering::value(int i) {
   const Code code = n.op == Op::sqrt ? Code::sqrt : n.op == Op::sin ? Code::sin
                   : n.op == Op::cos ? Code::cos : n.op == Op::exp ? Code::exp : Code::log;
   return emit(code, value(n.a), 0, 0, n.at);
+}
+
+Lowering::Affine Lowering::affine(std::uint16_t r, const std::vector<std::uint16_t>& unknowns,
+                                  const std::string& what) {
+  const std::size_t n = unknowns.size();
+  std::map<std::uint16_t, Affine> known;  // the forms found, by register
+  // the sum or difference of two terms that may be zero
+  const auto combine = [&](Code code, std::uint16_t a, std::uint16_t b, Position at) -> std::uint16_t {
+    if (b == zero) return a;
+    if (a == zero) return code == Code::add ? b : emit(Code::neg, b, 0, 0, at);
+    return emit(code, a, b, 0, at);
+  };
+  const auto scaled = [&](const Affine& f, Code code, std::uint16_t by, Position at) {
+    Affine out{std::vector<std::uint16_t>(n, zero), zero};
+    for (std::size_t j = 0; j < n; ++j)
+      if (f.coefficient[j] != zero) out.coefficient[j] = emit(code, f.coefficient[j], by, 0, at);
+    if (f.constant != zero) out.constant = emit(code, f.constant, by, 0, at);
+    return out;
+  };
+  const auto free_of = [](const Affine& f) {
+    for (const std::uint16_t c : f.coefficient)
+      if (c != zero) return false;
+    return true;
+  };
+  const auto form = [&](const auto& self, std::uint16_t x) -> Affine {
+    if (const auto it = known.find(x); it != known.end()) return it->second;
+    Affine f{std::vector<std::uint16_t>(n, zero), x};  // free of the unknowns: itself
+    for (std::size_t j = 0; j < n; ++j)
+      if (unknowns[j] == x) {
+        f.constant = zero;
+        f.coefficient[j] = constant(1.0);
+      }
+    if (x >= inputs_ && !values_[x - inputs_].constant) {
+      const Instruction i = values_[x - inputs_].made;
+      const Position at = values_[x - inputs_].at;
+      const Affine a = self(self, i.a);
+      const bool binary = i.code == Code::add || i.code == Code::sub || i.code == Code::mul ||
+                          i.code == Code::div || i.code == Code::fma;
+      const Affine b = binary ? self(self, i.b) : Affine{std::vector<std::uint16_t>(n, zero), zero};
+      const bool a_free = free_of(a), b_free = free_of(b);
+      const auto refuse = [&] { throw FormulaError(at, "not linear in " + what); };
+      if (!a_free || !b_free) {
+        switch (i.code) {
+          case Code::add:
+          case Code::sub:
+            for (std::size_t j = 0; j < n; ++j)
+              f.coefficient[j] = combine(i.code, a.coefficient[j], b.coefficient[j], at);
+            f.constant = combine(i.code, a.constant, b.constant, at);
+            break;
+          case Code::neg:
+            f = scaled(a, Code::mul, constant(-1.0), at);
+            break;
+          case Code::mul:
+            if (!a_free && !b_free) refuse();
+            f = a_free ? scaled(b, Code::mul, i.a, at) : scaled(a, Code::mul, i.b, at);
+            break;
+          case Code::div:
+            if (!b_free) refuse();
+            f = scaled(a, Code::div, i.b, at);
+            break;
+          case Code::fma: {
+            if (!a_free && !b_free) refuse();
+            const Affine product = a_free ? scaled(b, Code::mul, i.a, at) : scaled(a, Code::mul, i.b, at);
+            const Affine c = self(self, i.c);
+            for (std::size_t j = 0; j < n; ++j)
+              f.coefficient[j] = combine(Code::add, product.coefficient[j], c.coefficient[j], at);
+            f.constant = combine(Code::add, product.constant, c.constant, at);
+            break;
+          }
+          default:
+            refuse();
+        }
+      } else if (i.code == Code::fma && !free_of(self(self, i.c))) {
+        const Affine c = self(self, i.c);  // a·b (free of the unknowns) + c
+        f = c;
+        f.constant = combine(Code::add, emit(Code::mul, i.a, i.b, 0, at), c.constant, at);
+      }
+    }
+    known.emplace(x, f);
+    return f;
+  };
+  return form(form, r);
+}
+
+std::vector<std::uint16_t> Lowering::solve_linear(const std::vector<std::uint16_t>& equations,
+                                                  const std::vector<std::uint16_t>& unknowns,
+                                                  const std::string& what, Position at,
+                                                  std::uint16_t& determinant) {
+  const std::size_t n = unknowns.size();
+  std::vector<Affine> rows;
+  for (const std::uint16_t e : equations) rows.push_back(affine(e, unknowns, what));
+  const auto term = [&](std::uint16_t r) { return r == zero ? constant(0.0) : r; };
+  const auto a = [&](std::size_t i, std::size_t j) { return term(rows[i].coefficient[j]); };
+  const auto c = [&](std::size_t i) { return term(rows[i].constant); };
+  // det = a00 a11 − a01 a10;  u0 = (a01 c1 − a11 c0)/det,  u1 = (a10 c0 − a00 c1)/det
+  determinant = n == 1 ? a(0, 0)
+                       : emit(Code::sub, emit(Code::mul, a(0, 0), a(1, 1)),
+                              emit(Code::mul, a(0, 1), a(1, 0)));
+  if (is_constant(determinant) && number_at(determinant) == 0)
+    throw FormulaError(at, "the equations for " + what + " are singular whatever the state");
+  if (n == 1) return {emit(Code::div, emit(Code::neg, c(0)), determinant)};  // a u + c = 0
+  const std::uint16_t u0 =
+      emit(Code::sub, emit(Code::mul, a(0, 1), c(1)), emit(Code::mul, a(1, 1), c(0)));
+  const std::uint16_t u1 =
+      emit(Code::sub, emit(Code::mul, a(1, 0), c(0)), emit(Code::mul, a(0, 0), c(1)));
+  return {emit(Code::div, u0, determinant), emit(Code::div, u1, determinant)};
 }
 
 Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {

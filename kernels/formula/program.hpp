@@ -56,6 +56,24 @@ class Lowering {
   std::uint16_t constant(double value);
   // The program whose outputs are these registers, without what none of them needs.
   Program finish(const std::vector<std::uint16_t>& outputs) const;
+  // A value as an affine form in some of the inputs (the unknowns):
+  //   Σ_j coefficient[j]·unknown_j + constant,
+  // each term a register that depends on no unknown, or `zero`. A value that is not affine in
+  // them is refused where it stops being so (a product or quotient of two of them, a function of
+  // one).
+  static constexpr std::uint16_t zero = 0xffff;
+  struct Affine {
+    std::vector<std::uint16_t> coefficient;
+    std::uint16_t constant = zero;
+  };
+  Affine affine(std::uint16_t r, const std::vector<std::uint16_t>& unknowns, const std::string& what);
+  // The unknowns u solving Σ_j A_ij u_j + c_i = 0 for equations i (as many as unknowns, at most
+  // 2), by Cramer's rule, and the determinant: 0 where the system is singular for a state (a
+  // system singular for every state is refused, at `at`).
+  std::vector<std::uint16_t> solve_linear(const std::vector<std::uint16_t>& equations,
+                                          const std::vector<std::uint16_t>& unknowns,
+                                          const std::string& what, Position at,
+                                          std::uint16_t& determinant);
   // Whether parameter k was read.
   const std::vector<bool>& parameters_used() const { return used_; }
 
@@ -66,6 +84,7 @@ class Lowering {
     bool constant;
     double number;     // a constant's
     Instruction made;  // an instruction's, over provisional registers
+    Position at;       // where the formulas ask for it
   };
   bool is_constant(std::uint16_t r) const { return r >= inputs_ && values_[r - inputs_].constant; }
   double number_at(std::uint16_t r) const { return values_[r - inputs_].number; }
