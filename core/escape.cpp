@@ -12,6 +12,7 @@ std::string_view escape_reason_name(EscapeReason reason) {
     case EscapeReason::no_convergence: return "solver did not converge";
     case EscapeReason::zero_derivative: return "solver derivative vanished";
     case EscapeReason::wrong_branch: return "solver root off the physical branch";
+    case EscapeReason::singular: return "linear equations singular";
   }
   return "?";
 }

@@ -14,8 +14,9 @@ enum class EscapeReason : std::uint8_t {
   no_convergence = 3,   // an implicit step's solver did not converge
   zero_derivative = 4,  // an implicit step's solver derivative vanished
   wrong_branch = 5,     // an implicit step's root is not on the physical branch
+  singular = 6,         // a formula map's linear equations for q_{n+1} are singular
 };
-inline constexpr std::uint8_t last_escape_reason = 5;
+inline constexpr std::uint8_t last_escape_reason = 6;
 std::string_view escape_reason_name(EscapeReason reason);
 // Why a state (its components, one orbit) escaped: the solver's fault code when it is not 0,
 // else non-finite, else beyond the bound.

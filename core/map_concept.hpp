@@ -31,8 +31,12 @@
 //                                 carried by that flow until q_k has moved by ds (Hénon's
 //                                 method), what a section of mode `exact` records
 //   facts                         MapFacts: its example parameters, tolerances and preset
+// A map defined at run time (a formula map: DefinedAtRunTime) also has a Definition, which its
+// coefficients take after the values, and says by identity(definition) what the others say by
+// name, params and state_names; formulas(c) gives the text that defines it.
 #include <array>
 #include <concepts>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -87,7 +91,7 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
   { M::state_names.size() } -> std::convertible_to<std::size_t>;
   { M::max_invariants } -> std::convertible_to<std::size_t>;
   { M::coefficients(values) } -> std::same_as<typename M::Coeffs>;
-  { M::continuous(c) } -> std::same_as<Potential>;
+  { M::continuous(c) } -> std::convertible_to<std::optional<Potential>>;
   { M::invariant_names(c) } -> std::same_as<std::vector<std::string>>;
   M::step(c, s);
   { M::escape_measure(s) } -> std::same_as<double>;
@@ -108,6 +112,28 @@ concept KernelMap = requires(const typename M::Coeffs& c, typename M::template S
       { M::clock(s) } -> std::same_as<double>;
       { M::clock_state.size() } -> std::convertible_to<std::size_t>;
     });
+
+// A map's name, parameters and state components: a built-in map's static members, a formula
+// map's definition's (whose storage its coefficients keep).
+struct MapIdentity {
+  std::string name;
+  std::vector<ParamSpec> params;
+  std::vector<std::string> state_names;
+};
+
+template <class M>
+concept DefinedAtRunTime = requires { typename M::Definition; };
+
+// The identity of M made with these extra arguments (a definition, after a tangent's).
+template <class M, class... Extra>
+MapIdentity identity_of(const Extra&... extra) {
+  if constexpr (DefinedAtRunTime<M>) {
+    return M::identity(extra...);
+  } else {
+    return {std::string(M::name), {M::params.begin(), M::params.end()},
+            {M::state_names.begin(), M::state_names.end()}};
+  }
+}
 
 // Whether the map integrates a flow that carries a phase point to a position plane.
 template <class M>

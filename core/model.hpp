@@ -4,9 +4,11 @@
 #include <array>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "core/ensemble.hpp"
@@ -55,8 +57,11 @@ class Model {
   // order of state_names(), e.g. the /final/state of an earlier run; the same escape test.
   virtual void start_from_state(Ensemble& e, std::span<const std::vector<double>> state,
                                 double escape_bound) const = 0;
-  // The continuous system the map discretizes: its (A, B, α, β, δ).
-  virtual Potential continuous() const = 0;
+  // The continuous system the map discretizes: its (A, B, α, β, δ); none for a formula map that
+  // names none.
+  virtual std::optional<Potential> continuous() const = 0;
+  // The keys and texts of a formula map's definition (none for a built-in map).
+  virtual std::vector<std::pair<std::string, std::string>> formulas() const = 0;
   // Advances from plan.first to plan.last; the samples of the orbits go into `observers`.
   virtual void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                        Observers* observers = nullptr) const = 0;

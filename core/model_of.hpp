@@ -16,17 +16,26 @@ namespace qmaps {
 template <KernelMap Map>
 class ModelOf final : public Model {
  public:
-  // `extra`: what Map::coefficients takes beyond the parameters (a Tangent's orthonormalization).
+  // `extra`: what Map::coefficients takes beyond the parameters (a Tangent's orthonormalization,
+  // a formula map's definition).
   template <class... Extra>
   explicit ModelOf(const ParamValues& given, Extra... extra)
-      : values_(resolve_params(Map::name, Map::params, given)),
+      : identity_(identity_of<Map>(extra...)),
+        state_views_(identity_.state_names.begin(), identity_.state_names.end()),
+        values_(resolve_params(identity_.name, identity_.params, given)),
         c_(Map::coefficients(values_, extra...)),
         invariant_names_(Map::invariant_names(c_)) {}
 
-  std::string_view name() const override { return Map::name; }
-  std::span<const ParamSpec> param_specs() const override { return Map::params; }
+  std::string_view name() const override { return identity_.name; }
+  std::span<const ParamSpec> param_specs() const override { return identity_.params; }
   std::span<const double> param_values() const override { return values_; }
-  std::span<const std::string_view> state_names() const override { return Map::state_names; }
+  std::span<const std::string_view> state_names() const override { return state_views_; }
+  std::vector<std::pair<std::string, std::string>> formulas() const override {
+    if constexpr (requires { Map::formulas(c_); })
+      return Map::formulas(c_);
+    else
+      return {};
+  }
   const std::vector<std::string>& invariant_names() const override { return invariant_names_; }
   std::vector<std::vector<ColumnSpec>> lane_columns(
       std::span<const std::string> asked) const override {
@@ -46,7 +55,7 @@ class ModelOf final : public Model {
   void start_from_state(Ensemble& e, std::span<const std::vector<double>> state,
                         double escape_bound) const override {
     if (state.size() != Map::state_names.size())
-      throw usage_error(std::string(Map::name) + ": a state has " +
+      throw usage_error(identity_.name + ": a state has " +
                         std::to_string(Map::state_names.size()) + " components, not " +
                         std::to_string(state.size()));
     start_orbits(e, 0, state.front().size(), escape_bound, [&](std::size_t i) {
@@ -56,7 +65,7 @@ class ModelOf final : public Model {
     });
   }
 
-  Potential continuous() const override { return Map::continuous(c_); }
+  std::optional<Potential> continuous() const override { return Map::continuous(c_); }
 
   void advance(Ensemble& e, const RunPlan& plan, const Execution& x,
                Observers* observers) const override {
@@ -81,7 +90,7 @@ class ModelOf final : public Model {
     return Map::to_phase_space(c_, s);
   }
   std::vector<double> invariants(const Ensemble& e, std::size_t orbit) const override {
-    double values[Map::max_invariants];
+    double values[Map::max_invariants] = {};
     Map::invariants(c_, state_of(e, orbit), values);
     return {values, values + invariant_names_.size()};
   }
@@ -90,7 +99,7 @@ class ModelOf final : public Model {
     if (out.size() != invariant_names_.size()) throw usage_error("a column per invariant");
     if (isa != Isa::scalar) return simd_path<Map>(isa).invariants(c_, e, first, count, out);
     for (std::size_t i = 0; i < count; ++i) {
-      double values[Map::max_invariants];
+      double values[Map::max_invariants] = {};
       Map::invariants(c_, state_of(e, first + i), values);
       for (std::size_t k = 0; k < out.size(); ++k) out[k][i] = values[k];
     }
@@ -99,7 +108,7 @@ class ModelOf final : public Model {
     typename Map::template State<double> s;
     if (state.size() != s.size()) throw usage_error("a state of the wrong size");
     std::copy(state.begin(), state.end(), s.begin());
-    double values[Map::max_invariants];
+    double values[Map::max_invariants] = {};
     Map::invariants(c_, s, values);
     return {values, values + invariant_names_.size()};
   }
@@ -179,6 +188,8 @@ class ModelOf final : public Model {
     return s;
   }
 
+  MapIdentity identity_;
+  std::vector<std::string_view> state_views_;  // of identity_.state_names
   std::vector<double> values_;
   typename Map::Coeffs c_;
   std::vector<std::string> invariant_names_;

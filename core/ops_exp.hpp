@@ -24,7 +24,10 @@ template <class A>
 inline batch<A> power_of_two(batch<A> j) {
   using Bits = xsimd::batch<std::uint64_t, A>;
   const auto biased = xsimd::bitwise_cast<Bits>(j + batch<A>(1023.0 + 0x1p52));
-  return xsimd::bitwise_cast<batch<A>>(Bits(biased << 52));
+  if constexpr (detail::form<A> == detail::Form::avx512f)  // the masked form, as ops.hpp's
+    return xsimd::bitwise_cast<batch<A>>(Bits(_mm512_maskz_slli_epi64(0xFF, biased, 52)));
+  else
+    return xsimd::bitwise_cast<batch<A>>(Bits(biased << 52));
 }
 
 template <class V>

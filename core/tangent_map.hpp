@@ -35,8 +35,16 @@ inline constexpr long long max_orthonormalize_every = 1000;
 // singular values of the matrix of the first k (Eigen's SVD; core/gali.cpp).
 double gali(const std::array<std::array<double, 4>, 4>& vectors, int k);
 
+// A formula map's Definition, which its tangent takes too.
+template <class Map, bool = DefinedAtRunTime<Map>>
+struct DefinitionOf {};
+template <class Map>
+struct DefinitionOf<Map, true> {
+  using Definition = typename Map::Definition;
+};
+
 template <class Map, std::size_t D>
-struct Tangent {
+struct Tangent : DefinitionOf<Map> {
   static_assert(D == 1 || D == 9, "one deviation (lambda, FLI, MEGNO) or nine (all)");
   static constexpr std::size_t S = Map::state_names.size();
   static constexpr std::size_t sums_at = S * (1 + D);
@@ -72,36 +80,53 @@ struct Tangent {
     typename Map::Coeffs map;
     double every;  // steps between orthonormalizations of the spectrum's deviations
   };
-  static Coeffs coefficients(std::span<const double> values, long long every = 10) {
+  // `extra`: what the map's own coefficients take (a formula map's definition).
+  template <class... Extra>
+  static Coeffs coefficients(std::span<const double> values, long long every = 10,
+                             const Extra&... extra) {
     if (every < 1 || every > max_orthonormalize_every)
       throw usage_error("[chaos] orthonormalize_every: " + std::to_string(every) +
                         " is not in 1 … " + std::to_string(max_orthonormalize_every));
-    return {Map::coefficients(values), static_cast<double>(every)};
+    return {Map::coefficients(values, extra...), static_cast<double>(every)};
   }
-  static Potential continuous(const Coeffs& c) { return Map::continuous(c.map); }
+  template <class... Extra>
+  static MapIdentity identity(long long, const Extra&... extra)
+    requires DefinedAtRunTime<Map>
+  {
+    MapIdentity id = Map::identity(extra...);
+    id.state_names = record_names(id.state_names);
+    return id;
+  }
+  static auto formulas(const Coeffs& c)
+    requires requires { Map::formulas(c.map); }
+  {
+    return Map::formulas(c.map);
+  }
+  static auto continuous(const Coeffs& c) { return Map::continuous(c.map); }
   static std::vector<std::string> invariant_names(const Coeffs& c) {
     return Map::invariant_names(c.map);
   }
 
   // The state's names, then "w<j>.<name>" for each deviation, then the sums'.
-  static const std::array<std::string_view, size>& names() {
-    static const auto storage = [] {
-      std::array<std::string, size> text;
-      for (std::size_t k = 0; k < S; ++k) {
-        text[k] = std::string(Map::state_names[k]);
-        for (std::size_t j = 0; j < D; ++j) {
-          char name[64];
-          std::snprintf(name, sizeof name, "w%zu.%s", j, text[k].c_str());
-          text[S * (1 + j) + k] = name;
-        }
+  static std::vector<std::string> record_names(const std::vector<std::string>& base) {
+    std::vector<std::string> text(size);
+    for (std::size_t k = 0; k < S; ++k) {
+      text[k] = base[k];
+      for (std::size_t j = 0; j < D; ++j) {
+        char name[80];
+        std::snprintf(name, sizeof name, "w%zu.%.64s", j, base[k].c_str());
+        text[S * (1 + j) + k] = name;
       }
-      const char* sums[] = {"chaos.log_base",       "chaos.log_sum",        "chaos.fli",
-                            "chaos.megno_sum",      "chaos.steps",          "chaos.spectrum_log_1",
-                            "chaos.spectrum_log_2", "chaos.spectrum_log_3", "chaos.spectrum_log_4",
-                            "chaos.steps_to_orthonormalize"};
-      for (std::size_t k = sums_at; k < size; ++k) text[k] = sums[k - sums_at];
-      return text;
-    }();
+    }
+    const char* sums[] = {"chaos.log_base",       "chaos.log_sum",        "chaos.fli",
+                          "chaos.megno_sum",      "chaos.steps",          "chaos.spectrum_log_1",
+                          "chaos.spectrum_log_2", "chaos.spectrum_log_3", "chaos.spectrum_log_4",
+                          "chaos.steps_to_orthonormalize"};
+    for (std::size_t k = sums_at; k < size; ++k) text[k] = sums[k - sums_at];
+    return text;
+  }
+  static const std::array<std::string_view, size>& names() {
+    static const auto storage = record_names({Map::state_names.begin(), Map::state_names.end()});
     static const auto views = [] {
       std::array<std::string_view, size> v;
       for (std::size_t k = 0; k < size; ++k) v[k] = storage[k];

@@ -2,14 +2,18 @@
 // assignments over q1, q2, p1, p2 with parameters a, b and zero = 0. Parsing and lowering must
 // either succeed or throw qmaps::formula::FormulaError; a program made must run on any state
 // (its values may be anything, never a crash), and each expression printed back must parse to
-// the same text. Any other exception, a crash or a sanitizer report is a finding.
+// the same text. The same text is then a two-step map's step and its equations (linear in
+// q_{n+1}, solved): defined, or refused with a DefinitionError, and a map defined steps any
+// state. Any other exception, a crash or a sanitizer report is a finding.
 #include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "kernels/formula/definition.hpp"
 #include "kernels/formula/evaluate.hpp"
+#include "kernels/formula_map.hpp"
 #include "kernels/formula/expression.hpp"
 #include "kernels/formula/program.hpp"
 
@@ -37,6 +41,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       run<double, 1>(p, r.data());
     }
   } catch (const FormulaError&) {
+  }
+  for (const char* key : {"step", "equations"}) {
+    MapText t;
+    t.name = "fuzz";
+    t.form = "two_step";
+    t.parameters = "h = 0.125";
+    text_of(t, key) = std::string(text);
+    try {
+      const auto d = Definition::parse(t);
+      const double h = 0.125;
+      using qmaps::kernels::Formula;
+      const Formula::Coeffs c = Formula::coefficients(std::span(&h, 1), d);
+      for (const double x : {0.0, 0.5, -1e300}) {
+        Formula::State<double> s = {x, -x, 2 * x, 0.25};
+        Formula::step(c, s);
+        Formula::invariants(c, s, static_cast<double*>(nullptr));  // no invariants given
+        (void)Formula::phase(c, s);
+      }
+    } catch (const DefinitionError&) {
+    }
   }
   return 0;
 }

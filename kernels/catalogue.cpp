@@ -1,6 +1,7 @@
 #include "kernels/catalogue.hpp"
 
 #include <array>
+#include <vector>
 #include <string>
 
 #include "core/error.hpp"
@@ -26,8 +27,11 @@ MapEntry entry() {
 
 // Built on first use (other translation units' static initializers may ask for it).
 const auto& maps() {
-  static const auto list = std::apply(
-      [](auto... map) { return std::array{entry<decltype(map)>()...}; }, kernels::Maps{});
+  static const auto list = [] {
+    std::vector<MapEntry> out;
+    kernels::for_each_map([&](auto map) { out.push_back(entry<decltype(map)>()); });
+    return out;
+  }();
   return list;
 }
 
@@ -47,7 +51,9 @@ std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& para
   return entry_named(name).make(params);
 }
 std::unique_ptr<Model> continuous_model(const Model& model) {
-  const Potential v = model.continuous();
+  const auto continuous = model.continuous();
+  if (!continuous) return nullptr;
+  const Potential v = *continuous;
   return std::make_unique<ModelOf<kernels::Flow>>(ParamValues{
       {"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta}, {"delta", v.delta},
       {"h", 1.0}});
@@ -56,6 +62,18 @@ std::unique_ptr<Model> continuous_model(const Model& model) {
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params,
                                   const ChaosOptions& chaos) {
   return entry_named(name).make_chaos(params, chaos);
+}
+
+std::unique_ptr<Model> make_model(const std::shared_ptr<const formula::Definition>& definition,
+                                  const ParamValues& params) {
+  return std::make_unique<ModelOf<kernels::Formula>>(params, definition);
+}
+std::unique_ptr<Model> make_model(const std::shared_ptr<const formula::Definition>& definition,
+                                  const ParamValues& params, const ChaosOptions& chaos) {
+  using kernels::Formula;
+  if (chaos.spectrum)
+    return std::make_unique<ModelOf<Tangent<Formula, 9>>>(params, chaos.every, definition);
+  return std::make_unique<ModelOf<Tangent<Formula, 1>>>(params, chaos.every, definition);
 }
 
 }  // namespace qmaps

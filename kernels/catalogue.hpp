@@ -6,6 +6,7 @@
 
 #include "core/map_concept.hpp"
 #include "core/model.hpp"
+#include "kernels/formula/definition.hpp"
 
 namespace qmaps {
 
@@ -32,10 +33,18 @@ std::span<const MapEntry> catalogue();
 // The model of map `name` with these parameters; an unknown name is a usage error listing the maps.
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params);
 // The continuous system `model` discretizes, as the flow (kernels/flow.hpp) of its potential:
-// its invariants are the continuous H and the case's second integral ("H_cont" beside the map's).
+// its invariants are the continuous H and the case's second integral ("H_cont" beside the map's);
+// null for a formula map that names none.
 std::unique_ptr<Model> continuous_model(const Model& model);
 // The same map advancing its chaos record with its state.
 std::unique_ptr<Model> make_model(std::string_view name, const ParamValues& params,
                                   const ChaosOptions& chaos);
+
+// The model of a map written as formulas (kernels/formula/definition.hpp), alone or with its chaos
+// record.
+std::unique_ptr<Model> make_model(const std::shared_ptr<const formula::Definition>& definition,
+                                  const ParamValues& params);
+std::unique_ptr<Model> make_model(const std::shared_ptr<const formula::Definition>& definition,
+                                  const ParamValues& params, const ChaosOptions& chaos);
 
 }  // namespace qmaps

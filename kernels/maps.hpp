@@ -3,13 +3,15 @@
 // --map and `qmaps list`, the per-ISA translation units (CMakeLists.txt counts the entries), the
 // agreement, contraction, reversibility, drift and convergence tests, the benchmarks and
 // `qmaps check`'s defaults. Adding a map: its header, one line here, a preset and a section in
-// docs/maps.md (tests/maps_test.cpp checks both).
+// docs/maps.md (tests/maps_test.cpp checks both). The last, Formula, is any map written as
+// formulas (docs/formulas.md): its paths are compiled here, its definition comes at run time.
 #include <tuple>
 
 #include "kernels/case2.hpp"
 #include "kernels/case2_hky.hpp"
 #include "kernels/case3.hpp"
 #include "kernels/flow.hpp"
+#include "kernels/formula_map.hpp"
 #include "kernels/suris.hpp"
 
 namespace qmaps::kernels {
@@ -22,13 +24,18 @@ using Maps = std::tuple<
     Case2Hky,
     Case3,
     Flow,
-    Leapfrog>;
+    Leapfrog,
+    Formula>;
 // clang-format on
 
-// f(Map{}) for every map of the list, in its order.
+// f(Map{}) for every built-in map of the list, in its order.
 template <class F>
 void for_each_map(F&& f) {
-  std::apply([&](auto... map) { (f(map), ...); }, Maps{});
+  const auto built_in = [&](auto map) {
+    if constexpr (!DefinedAtRunTime<decltype(map)>) f(map);
+  };
+  std::apply([&](auto... map) { (built_in(map), ...); }, Maps{});
 }
+inline constexpr std::size_t built_in_maps = std::tuple_size_v<Maps> - 1;
 
 }  // namespace qmaps::kernels

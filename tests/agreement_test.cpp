@@ -2,6 +2,7 @@
 // size (chains), and runs cut into segments (resume) reproduce the scalar reference path byte for
 // byte: final states (with their chaos records where a run keeps one), escape steps and reasons,
 // invariant drift, and the tunes (over two windows of 128 steps, through escapes within them).
+// Every map of the list, and the maps written as formulas of the presets.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,8 @@
 #include "core/observers/lane_observers.hpp"
 #include "core/observers/tunes/tunes.hpp"
 #include "ensemble_fixtures.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "isas_run.hpp"
 
 namespace qmaps {
@@ -30,7 +33,13 @@ struct Scenario {
   bool on_plane = false;  // state (q2_n, q2_n+1) = (+0, −0)
   std::size_t deviations = 0;  // with a chaos record of 1 or 9 deviations (core/tangent_map.hpp)
   long long tune_window = 0;   // with the tunes over two windows of this many steps
+  std::shared_ptr<const formula::Definition> formulas = {};  // a map written as formulas
 };
+
+// The formulas of preset `name` (ensembles/presets/<name>.toml).
+std::shared_ptr<const formula::Definition> formulas_of(const std::string& name) {
+  return definition_of(Config::load(QMAPS_SOURCE_DIR "/ensembles/presets/" + name + ".toml"));
+}
 
 // Three per map of kernels/maps.hpp, from its example: bounded orbits; orbits escaping over the
 // barrier of an attractive quartic (α < 0); orbits in the invariant plane q2 = p2 = 0, with the
@@ -59,6 +68,21 @@ std::vector<Scenario> scenarios() {
                    0, 128});
     out.push_back({id + "_escaping_tunes", std::string(m.name), param_values(m.facts->escaping),
                    1.2, 1.0, 10, true, 400, false, 1, 128});
+  }
+  // The formula maps of the presets: two-step (Suris as formulas, and kicked, also escaping over
+  // the barrier of α < 0) and phase maps with transcendentals and one degree of freedom.
+  const ParamValues attractive = {{"alpha", -0.4}};
+  for (const char* name : {"suris-formulas", "suris-kicked", "froeschle", "mcmillan", "henon-heiles"}) {
+    const auto formulas = formulas_of(name);
+    const std::string id = testing::test_id(name);
+    const bool two_step = formulas->form() == formula::Form::two_step;
+    out.push_back({id, name, {}, 0.3, 0.3, 1e8, false, 400, false, 0, 0, formulas});
+    out.push_back({id + "_lyapunov", name, {}, 0.3, 0.3, 1e8, false, 400, false, 1, 0, formulas});
+    out.push_back({id + "_spectrum", name, {}, 0.3, 0.3, 1e8, false, 400, false, 9, 0, formulas});
+    out.push_back({id + "_tunes", name, {}, 0.3, 0.3, 1e8, false, 400, false, 0, 128, formulas});
+    if (two_step)
+      out.push_back({id + "_escaping_spectrum", name, attractive, 1.2, 1.0, 10, true, 400, false,
+                     9, 0, formulas});
   }
   out.push_back({"suris_A_eq_B", "suris", {{"A", 0.5}, {"B", 0.5}, {"alpha", 0.9}, {"h", 0.1}}, 0.5, 0.5, 1e8});
   out.push_back({"case2_hky_c", "case2-hky", {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"c11", 0.37}, {"c12", 0.41}, {"c21", 0.77}, {"c22", 0.19}}, 0.5, 0.5, 1e8});
@@ -136,10 +160,14 @@ class Agreement : public ::testing::TestWithParam<std::tuple<Scenario, std::size
  protected:
   const Scenario scenario = std::get<0>(GetParam());
   const std::size_t orbits = std::get<1>(GetParam());
-  const std::unique_ptr<Model> model =
-      scenario.deviations == 0
-          ? make_model(scenario.map, scenario.params)
-          : make_model(scenario.map, scenario.params, ChaosOptions{scenario.deviations == 9, 3});
+  const std::unique_ptr<Model> model = [this] {
+    const ChaosOptions chaos{scenario.deviations == 9, 3};
+    if (scenario.formulas)
+      return scenario.deviations == 0 ? make_model(scenario.formulas, scenario.params)
+                                      : make_model(scenario.formulas, scenario.params, chaos);
+    return scenario.deviations == 0 ? make_model(scenario.map, scenario.params)
+                                    : make_model(scenario.map, scenario.params, chaos);
+  }();
   const RunPlan plan = [this] {
     RunPlan p;
     p.total = p.last = scenario.steps;

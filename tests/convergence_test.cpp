@@ -62,7 +62,7 @@ double measured_order(const std::string& map, const ParamValues& params, const c
 
 // The flow's parameters for the continuous system `model` discretizes.
 ParamValues flow_of(const Model& model) {
-  const Potential v = model.continuous();
+  const Potential v = model.continuous().value();
   return {{"A", v.A}, {"B", v.B}, {"alpha", v.alpha}, {"beta", v.beta}, {"delta", v.delta}};
 }
 

@@ -186,7 +186,7 @@ TEST(Shell, PointsLieOnTheEnergySurfaceToleranceTest) {
   int points = 0;
   for (const auto& [name, params] : maps) {
     const auto model = make_model(name, params);
-    const Potential V = model->continuous();
+    const Potential V = *model->continuous();
     for (const char* solve : {"q1", "q2", "p1", "p2"})
       for (const char* sign : {"+", "-"}) {
         std::string text = "kind = \"shell\"\nenergy = 0.3\norbits = 500\nseed = 9\nsolve = \"" +
@@ -205,17 +205,18 @@ TEST(Shell, PointsLieOnTheEnergySurfaceToleranceTest) {
 }
 
 TEST(Shell, ContinuousSystemOfEachMapIsItsCase) {
-  const auto case3 = make_model("case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}})->continuous();
+  const auto case3 = make_model("case3", {{"A", 0.7}, {"alpha", 0.9}, {"ds", 0.1}})->continuous().value();
   EXPECT_EQ(case3.B, 4 * 0.7);
   EXPECT_EQ(case3.beta, 16 * 0.9);
   EXPECT_EQ(case3.delta, 12 * 0.9);
   const auto case2 =
       make_model("case2-hky",
                  {{"A", 0.7}, {"alpha", 0.9}, {"h", 0.1}, {"gamma11", 0.6}, {"gamma21", 0.3}})
-          ->continuous();
+          ->continuous()
+          .value();
   EXPECT_EQ(case2.B, 0.7);
   EXPECT_EQ(case2.delta, 6 * 0.9);
-  const auto suris = suris_model()->continuous();
+  const auto suris = suris_model()->continuous().value();
   EXPECT_EQ(suris.beta, 0.9);
   EXPECT_EQ(suris.delta, 2 * 0.9);
 }

@@ -154,7 +154,7 @@ TEST_F(Io, GroupsHoldTheRun) {
     EXPECT_EQ(total, 100) << "every orbit counts once";
   }
   EXPECT_EQ(root.open_group("escape").attr_string("reason_codes"),
-            "0 none, 1 non-finite, 2 beyond bound, 3 solver did not converge, 4 solver derivative vanished, 5 solver root off the physical branch");
+            "0 none, 1 non-finite, 2 beyond bound, 3 solver did not converge, 4 solver derivative vanished, 5 solver root off the physical branch, 6 linear equations singular");
 }
 
 TEST_F(Io, WithoutPerOrbitDatasetsOnlyHistogramsAreWritten) {

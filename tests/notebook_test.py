@@ -1,6 +1,7 @@
 """docs/notebooks/quickstart.ipynb runs from top to bottom in a fresh kernel (nbclient, with the
 build tree's package) and shows what it says: the run's summary, a section of the orbits of an 8 x 8 grid on one energy shell, a
-density and the two maps' energy errors, the integrable map's own invariant kept to round-off."""
+density, a map written as formulas (Henon-Heiles' leapfrog) with its section coloured by MEGNO, and the
+two maps' energy errors, the integrable map's own invariant kept to round-off."""
 import os
 import re
 import sys
@@ -28,7 +29,11 @@ class Quickstart(unittest.TestCase):
         for cell in code:
             self.assertFalse([o for o in cell.outputs if o["output_type"] == "error"], cell.source)
         figures = [c for c in code if any("image/png" in o.get("data", {}) for o in c.outputs)]
-        self.assertEqual(len(figures), 3)  # the section, the density, the energy errors
+        self.assertEqual(len(figures), 4)  # the section, the density, the formula map's section, the energy errors
+        written = text_of(figures[2])
+        points, chaotic = re.search(r"^(\d+) section points; chaotic \(MEGNO > 4\): (\d+)%", written, re.M).groups()
+        self.assertGreater(int(points), 300 * 20)  # every orbit crosses many times
+        self.assertTrue(5 <= int(chaotic) <= 95, written)  # tori and a chaotic sea
         summary = text_of(code[1])
         self.assertIn("particle-steps/s", summary)
         orbits, points = map(int, re.search(r"^(\d+) orbits, (\d+) section points", summary, re.M).groups())

@@ -97,11 +97,14 @@ def small_run(directory, orbits=2000, steps=200, name="small.h5", preset=PRESET,
 
 def every_layout(directory):
     """Small runs that together write everything the schema page documents: the preset with
-    EXTRA_OBSERVERS and TUNES, a flow's with FLOW_OBSERVERS (mode exact), and case2-staggered's and case3's
-    raw states. The first is the Suris run."""
+    EXTRA_OBSERVERS and TUNES, a flow's with FLOW_OBSERVERS (mode exact), case2-staggered's and
+    case3's raw states, and a map written as formulas (its formula.<key>). The first is the Suris
+    run."""
     return [small_run(directory, orbits=300, steps=200, extra=EXTRA_OBSERVERS + TUNES),
             small_run(directory, orbits=300, steps=200, name="flow.h5", preset=FLOW_PRESET,
                       extra=FLOW_OBSERVERS),
             *(small_run(directory, orbits=None, steps=20, name=f"{p}.h5",
                         preset=PRESET.with_name(f"{p}.toml"), extra="")
-              for p in ("case2-staggered", "case3"))]
+              for p in ("case2-staggered", "case3")),
+            small_run(directory, orbits=300, steps=20, name="formulas.h5",
+                      preset=PRESET.with_name("suris-formulas.toml"), extra="")]

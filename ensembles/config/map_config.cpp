@@ -1,5 +1,6 @@
 #include "ensembles/config/map_config.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 #include "core/error.hpp"
@@ -31,16 +32,50 @@ ParamValues parse_params(const std::vector<std::string>& sets) {
 }
 
 
+bool is_formula_map(const Config& config) { return config.has("map", "form"); }
+
+std::shared_ptr<const formula::Definition> definition_of(const Config& config) {
+  formula::MapText text;
+  for (const std::string_view key : formula::map_keys)
+    formula::text_of(text, key) = config.string_or("map", key, "");
+  try {
+    return formula::Definition::parse(text);
+  } catch (const formula::DefinitionError& e) {
+    throw Error(e.code(), config.where("map", e.key()) + ": " + e.reason());
+  }
+}
+
 std::unique_ptr<Model> map_of(const Config& config, const std::optional<ChaosOptions>& chaos) {
+  const bool formulas = is_formula_map(config);
+  const auto definition = formulas ? definition_of(config) : nullptr;
   const std::string name = config.string("map", "name");
   ParamValues params;
   for (const auto& key : config.keys("map"))
-    if (key != "name") params[key] = config.number("map", key);
+    if (std::find(formula::map_keys.begin(), formula::map_keys.end(), key) ==
+            formula::map_keys.end() ||
+        (!formulas && key != "name"))
+      params[key] = config.number("map", key);
   try {
+    if (formulas) return chaos ? make_model(definition, params, *chaos) : make_model(definition, params);
     return chaos ? make_model(name, params, *chaos) : make_model(name, params);
+  } catch (const formula::DefinitionError& e) {
+    throw Error(e.code(), config.where("map", e.key()) + ": " + e.reason());
   } catch (const Error& e) {
     throw Error(e.code(), config.where("map") + ": " + e.what());
   }
+}
+
+std::unique_ptr<Model> map_named(const std::string& map, const ParamValues& params,
+                                 const std::optional<ChaosOptions>& chaos) {
+  if (map.size() < 5 || map.compare(map.size() - 5, 5, ".toml") != 0)
+    return chaos ? make_model(map, params, *chaos) : make_model(map, params);
+  Config config = Config::load(map);
+  if (!is_formula_map(config))
+    throw usage_error(config.where("map") + ": --map " + map +
+                      ": the file's [map] is not written as formulas (it has no form); name a "
+                      "built-in map by its name");
+  for (const auto& [name, value] : params) config.set("map." + name + "=" + number_text(value));
+  return map_of(config, chaos);
 }
 
 }  // namespace qmaps

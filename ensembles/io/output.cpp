@@ -213,6 +213,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   const auto values = model.param_values();
   for (std::size_t k = 0; k < specs.size(); ++k)
     root.attr("param." + std::string(specs[k].name), values[k]);
+  for (const auto& [key, text] : model.formulas()) root.attr("formula." + key, text);
   root.attr("steps", static_cast<std::int64_t>(run.plan.total));
   if (!model.time_per_orbit()) root.attr("time", model.time(e, 0));
   root.attr("orbits", static_cast<std::int64_t>(rows.total));
@@ -286,7 +287,7 @@ void write_run(const h5::Group& root, const RunRecord& run) {
   write_rows<std::int64_t>(escape, "step", e.escape_step.span().first(n), rows);
   write_rows<std::uint8_t>(escape, "reason", e.escape_reason.span().first(n), rows);
   std::string codes;
-  for (int k = 0; k <= static_cast<int>(EscapeReason::wrong_branch); ++k)
+  for (int k = 0; k <= static_cast<int>(last_escape_reason); ++k)
     codes += (k ? ", " : "") + std::to_string(k) + " " +
              std::string(escape_reason_name(static_cast<EscapeReason>(k)));
   escape.attr("reason_codes", codes);

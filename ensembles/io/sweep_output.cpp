@@ -53,6 +53,7 @@ void write_sweep(const h5::Group& root, const Sweep& sweep, std::span<const RunR
   const RunRecord& first = runs.front();
   write_build(root);
   root.attr("map", std::string(first.model.name()));
+  for (const auto& [key, text] : first.model.formulas()) root.attr("formula." + key, text);
   root.attr("steps", static_cast<std::int64_t>(first.plan.total));
   root.attr("isa", std::string(isa_name(first.execution.isa)));
   root.attr("threads", static_cast<std::int64_t>(first.execution.threads));

@@ -10,17 +10,19 @@ namespace qmaps {
 std::vector<std::string> trajectory_columns(const Model& model) {
   std::vector<std::string> out = {"t", "q1", "q2", "p1", "p2"};
   for (const auto& name : model.invariant_names()) out.push_back(name);
-  const auto continuous = continuous_model(model);
-  for (const auto& name : continuous->invariant_names()) out.push_back(name + "_cont");
+  if (const auto continuous = continuous_model(model))
+    for (const auto& name : continuous->invariant_names()) out.push_back(name + "_cont");
   for (const auto& name : model.indicator_names()) out.push_back(name);
   return out;
 }
 
-std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
+std::vector<double> trajectory_row(const Model& model, const Model* continuous, const Ensemble& e,
                                    std::size_t i) {
   const Phase x = model.phase(e, i);
   const std::vector<double> invariants = model.invariants(e, i);
-  const std::vector<double> integrals = continuous.invariants_of(std::array{x.q1, x.q2, x.p1, x.p2});
+  const std::vector<double> integrals =
+      continuous ? continuous->invariants_of(std::array{x.q1, x.q2, x.p1, x.p2})
+                 : std::vector<double>{};
   const std::vector<double> indicators = model.indicators(e, i);
   std::vector<double> row;  // allocated once: qmaps orbit makes a row per step
   row.reserve(5 + invariants.size() + integrals.size() + indicators.size());
@@ -53,7 +55,7 @@ void record(Trajectory& t, const Model& model, const Ensemble& e, const RunPlan&
       rows_of[j].push_back(t.orbit.size());
       t.orbit.push_back(static_cast<std::int64_t>(t.orbits[j]));
       t.step.push_back(n);
-      const std::vector<double> row = trajectory_row(model, *continuous, copy, j);
+      const std::vector<double> row = trajectory_row(model, continuous.get(), copy, j);
       for (std::size_t k = 0; k < row.size(); ++k) t.values[k].push_back(row[k]);
     }
     if (n >= plan.total) break;

@@ -15,9 +15,10 @@
 namespace qmaps {
 
 // The column names every trajectory of this model has, and orbit i's row of them at e's step
-// (`continuous` is continuous_model(model)): `qmaps orbit` prints the same rows.
+// (`continuous` is continuous_model(model), null when there is none): `qmaps orbit` prints the
+// same rows.
 std::vector<std::string> trajectory_columns(const Model& model);
-std::vector<double> trajectory_row(const Model& model, const Model& continuous, const Ensemble& e,
+std::vector<double> trajectory_row(const Model& model, const Model* continuous, const Ensemble& e,
                                    std::size_t i);
 // Keeps, of each trajectory's orbits, those in [first, first + count), numbered from `first` (a
 // shard's): a trajectory may be left with none.

@@ -49,6 +49,17 @@ Generated generate(const EnsembleKind& kind, int threads, std::size_t chunk) {
 
 namespace {
 
+// The continuous system by whose energy a kind places its orbits.
+Potential continuous_of(const Config& config, const Model& model) {
+  const auto continuous = model.continuous();
+  if (!continuous)
+    throw usage_error(config.where("ensemble", "kind") + ": '" +
+                      config.string("ensemble", "kind") + "' places orbits by the energy of the "
+                      "continuous Hamiltonian, and map '" + std::string(model.name()) +
+                      "' names none (a formula map's [map] continuous)");
+  return *continuous;
+}
+
 // Every ensemble kind, by the name [ensemble] kind takes.
 struct KindEntry {
   std::string_view name;
@@ -58,11 +69,11 @@ template <class Kind>
 std::shared_ptr<const EnsembleKind> make_kind(const Config& config, const Model& model,
                                               const StopCheck& stop) {
   if constexpr (std::is_constructible_v<Kind, const Config&, Potential, StopCheck>)
-    return std::make_shared<Kind>(config, model.continuous(), stop);
+    return std::make_shared<Kind>(config, continuous_of(config, model), stop);
   else if constexpr (std::is_constructible_v<Kind, const Config&, const Model&>)
     return std::make_shared<Kind>(config, model);
   else if constexpr (std::is_constructible_v<Kind, const Config&, Potential>)
-    return std::make_shared<Kind>(config, model.continuous());
+    return std::make_shared<Kind>(config, continuous_of(config, model));
   else
     return std::make_shared<Kind>(config);
 }

@@ -94,7 +94,10 @@ int main(int argc, char** argv) {
 
   qmaps::OrbitOptions orbit;
   auto* orbit_cmd = app.add_subcommand("orbit", "one orbit as CSV on stdout (the scalar reference path)");
-  orbit_cmd->add_option("--map", orbit.map, "map name")->required();
+  orbit_cmd->add_option("--map", orbit.map,
+                        "map name, or a configuration file (*.toml) whose [map] is written as "
+                        "formulas (docs/formulas.md)")
+      ->required();
   orbit_cmd->add_option("--set", orbit.sets, "a map parameter: name=value (repeatable)");
   orbit_cmd->add_option("--ic", orbit.ic, "initial condition q1,q2,p1,p2")->required();
   orbit_cmd->add_option("--steps", orbit.steps, "number of steps N")->required();

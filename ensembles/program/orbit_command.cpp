@@ -42,11 +42,16 @@ struct OrbitStart {
 OrbitStart orbit_start(const OrbitOptions& o) {
   // With --chaos the map advances its chaos record with the state (core/tangent_map.hpp): the
   // same steps, bit for bit, and the indicators of the orbit so far on every row.
-  auto model = o.chaos ? make_model(o.map, parse_params(o.sets), ChaosOptions{true, 10})
-                       : make_model(o.map, parse_params(o.sets));
+  auto model = map_named(o.map, parse_params(o.sets),
+                         o.chaos ? std::optional(ChaosOptions{true, 10}) : std::nullopt);
   Phase ic = parse_ic(o.ic);
   if (o.energy) {  // p2 from H_cont = E, with the sign --ic gives it
-    const double rest = model->continuous().energy({ic.q1, ic.q2, ic.p1, 0.0});
+    const auto continuous = model->continuous();
+    if (!continuous)
+      throw usage_error("--energy: map '" + std::string(model->name()) +
+                        "' names no continuous Hamiltonian to measure the energy by (a formula "
+                        "map's [map] continuous)");
+    const double rest = continuous->energy({ic.q1, ic.q2, ic.p1, 0.0});
     const double p2_squared = 2 * (*o.energy - rest);
     if (!std::isfinite(*o.energy))
       throw usage_error("--energy " + number_text(*o.energy) + ": the energy must be finite");
@@ -123,7 +128,7 @@ std::string orbit_rows(const OrbitOptions& o, const OrbitColumns& columns_of,
       return "the orbit escaped at step " + std::to_string(e.escape_step[0]) + " (" +
              std::string(escape_reason_name(static_cast<EscapeReason>(e.escape_reason[0]))) +
              "); rows stop before it";
-    std::vector<double> values = trajectory_row(*model, *continuous, e, 0);
+    std::vector<double> values = trajectory_row(*model, continuous.get(), e, 0);
     // n in place of t where t is n h, else before it.
     if (from > 0) values[0] = static_cast<double>(e.step);
     else values.insert(values.begin(), static_cast<double>(e.step));

@@ -4,13 +4,26 @@
 // batch, duals over both. The register file holds `lanes` values of V per register (a block's
 // chains): each instruction is decoded once and applied to all of them, so that its dispatch is
 // shared by lanes × W orbits.
+#include <array>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
 
 #include "core/ops.hpp"
 #include "core/ops_exp.hpp"
 #include "kernels/formula/program.hpp"
 
 namespace qmaps::formula {
+
+// sin and cos where ops::sin_cos holds them (|x| ≤ 2^20), NaN beyond: the orbit's escape.
+template <class V>
+inline void sin_cos_within(V x, V& sine, V& cosine) {
+  ops::sin_cos(x, sine, cosine);
+  const auto beyond = ops::negate(ops::abs(x) <= V(0x1p20));
+  sine = ops::select(beyond, V(std::numeric_limits<double>::quiet_NaN()), sine);
+  cosine = ops::select(beyond, V(std::numeric_limits<double>::quiet_NaN()), cosine);
+}
 
 template <class V>
 inline V apply(Code code, V a, V b, V c) {
@@ -24,12 +37,12 @@ inline V apply(Code code, V a, V b, V c) {
     case Code::sqrt: return ops::sqrt(a);
     case Code::sin: {
       V s, co;
-      ops::sin_cos(a, s, co);
+      sin_cos_within(a, s, co);
       return s;
     }
     case Code::cos: {
       V s, co;
-      ops::sin_cos(a, s, co);
+      sin_cos_within(a, s, co);
       return co;
     }
     case Code::exp: return ops::exp(a);
@@ -70,6 +83,25 @@ inline void run(const Program& p, V* r) {
       case Code::log: each([](V x, V, V) { return ops::log(x); }); break;
     }
   }
+}
+
+// This thread's registers for program p at V, `lanes` values per register, with its constants
+// loaded the first time. Eight files, by the program's id: the programs of one map (made one after
+// another) keep theirs while a run alternates between them (the step, then its samples').
+template <class V, std::size_t lanes = 1>
+inline V* registers_for(const Program& p) {
+  struct File {
+    std::uint64_t loaded = 0;
+    std::vector<V> r;
+  };
+  thread_local std::array<File, 8> files;
+  File& file = files[p.id % files.size()];
+  if (file.loaded != p.id) [[unlikely]] {
+    file.r.resize(p.registers() * lanes);
+    load_constants(p, file.r.data(), lanes);
+    file.loaded = p.id;
+  }
+  return file.r.data();
 }
 
 }  // namespace qmaps::formula

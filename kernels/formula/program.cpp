@@ -1,5 +1,6 @@
 #include "kernels/formula/program.hpp"
 
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <map>
@@ -25,10 +26,10 @@ Lowering::Lowering(const Formulas& f, const std::vector<std::string>& inputs,
     inputs_by_name_[inputs[k]] = static_cast<std::uint16_t>(k);
 }
 
-void Lowering::assign_all() {
+void Lowering::assign_all(bool over_parameters) {
   for (const Assignment& a : f_.assignments) {
     for (const auto& parameter : parameters_)
-      if (parameter.first == a.name)
+      if (parameter.first == a.name && !over_parameters)
         throw FormulaError(a.at, "'" + a.name + "' is a parameter; it cannot be assigned");
     names_[a.name] = value(a.root);
   }
@@ -158,8 +159,7 @@ Lowering::Affine Lowering::affine(std::uint16_t r, const std::vector<std::uint16
       const Instruction i = values_[x - inputs_].made;
       const Position at = values_[x - inputs_].at;
       const Affine a = self(self, i.a);
-      const bool binary = i.code == Code::add || i.code == Code::sub || i.code == Code::mul ||
-                          i.code == Code::div || i.code == Code::fma;
+      const bool binary = operands(i.code) >= 2;
       const Affine b = binary ? self(self, i.b) : Affine{std::vector<std::uint16_t>(n, zero), zero};
       const bool a_free = free_of(a), b_free = free_of(b);
       const auto refuse = [&] { throw FormulaError(at, "not linear in " + what); };
@@ -241,7 +241,9 @@ Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {
     if (operands(v.made.code) >= 2) needed[v.made.b] = true;
     if (operands(v.made.code) == 3) needed[v.made.c] = true;
   }
+  static std::atomic<std::uint64_t> made{0};
   Program p;
+  p.id = ++made;
   p.inputs = inputs_;
   std::vector<std::uint16_t> final(inputs_ + values_.size(), 0);
   for (std::size_t k = 0; k < inputs_; ++k) final[k] = static_cast<std::uint16_t>(k);

@@ -34,6 +34,7 @@ struct Program {
   std::vector<double> constants;  // registers inputs .. inputs + constants.size() − 1
   std::vector<Instruction> code;  // each writes a register of its own, after the constants
   std::vector<std::uint16_t> outputs;
+  std::uint64_t id = 0;  // unique to the program finish() made (evaluate.hpp's register files)
   std::size_t registers() const { return inputs + constants.size() + code.size(); }
 };
 
@@ -43,8 +44,9 @@ class Lowering {
   Lowering(const Formulas& f, const std::vector<std::string>& inputs,
            const std::vector<std::pair<std::string, double>>& parameters);
 
-  // The assignments in order: each name then denotes its value (a later one replaces it).
-  void assign_all();
+  // The assignments in order: each name then denotes its value (a later one replaces it). A
+  // parameter's name may be assigned only where `over_parameters` (a name of another kind).
+  void assign_all(bool over_parameters = false);
   // The register of node i's value, or of a name's current value (an input, a parameter or an
   // assignment's; at: where it is asked for, in an error).
   std::uint16_t value(int node);

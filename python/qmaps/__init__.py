@@ -9,12 +9,15 @@ Hamiltonian, in process (docs/python.md).
     table = qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1},
                         (0.1, 0.2, 0.0, 0.1), steps=1000)
     earlier = qmaps.load("suris.h5")          # a file, opened lazily
+    kick = qmaps.Map("standard", "phase", {"K": 0.9}, step="p1 = p1 - K*sin(q1); q1 = q1 + p1")
+    run = qmaps.run({"map": kick, ...})       # a map written as formulas (docs/formulas.md)
 
 qmaps.plot draws a file's pictures (the qmaps-plot program).
 """
 from .engine import Spec, maps, orbit, run, spec
 from .errors import ConfigError, Error, FileError, UnsupportedError
+from .formula_map import Map
 from .runfile import Group, Histogram, Run, load
 
-__all__ = ["run", "spec", "Spec", "orbit", "maps", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
+__all__ = ["run", "spec", "Spec", "orbit", "maps", "Map", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
            "FileError", "UnsupportedError"]

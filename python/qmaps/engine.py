@@ -292,6 +292,7 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
     """One orbit's table, as `qmaps orbit` prints it: n, the phase point, the invariants, the
     continuous system's integrals (the _cont columns) and with chaos=True the indicators.
 
+    map      a built-in map's name, a qmaps.Map, or a TOML file whose [map] is one
     params   {name: value} of the map's parameters (qmaps.maps() lists them)
     ic       (q1, q2, p1, p2); with energy=E, p2 is solved from H_cont = E, its sign kept
     frame    True: a pandas DataFrame; False: a numpy structured array; None (default): the
@@ -299,6 +300,13 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
 
     An orbit that escapes ends its rows before the escape, with a RuntimeWarning saying when."""
     engine = _the_engine()
+    if isinstance(map, dict):  # a qmaps.Map, or a [map] table written as formulas
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "map.toml")
+            with open(path, "w") as f:
+                f.write(toml_text.dumps({"map": map}))
+            return orbit(path, params, ic, steps, every, start=start, escape_bound=escape_bound,
+                         chaos=chaos, energy=energy, frame=frame)
     params, ic_text = _orbit_arguments(params, ic)
     sets = [f"{k}={toml_text.value(v, f'params[{k!r}]')}" for k, v in params.items()]
     steps = _integer("steps", steps, 0, 2**63 - 1, "an integer >= 0")
