@@ -25,13 +25,7 @@ CLI_SETS = ["--set", "ensemble.orbits=501", "--set", "run.steps=120", "--set",
             "run.escape_bound=0.6", "--quiet"]
 
 
-def datasets(path):
-    """Every dataset of the file by path, as a numpy array."""
-    out = {}
-    with h5py.File(path) as f:
-        f.visititems(lambda name, item: out.__setitem__(name, item[()])
-                     if isinstance(item, h5py.Dataset) else None)
-    return out
+datasets = small_run.datasets
 
 
 def assert_same_datasets(mine, theirs):

@@ -80,6 +80,26 @@ def qmaps(directory, *args, env=None):
                           cwd=directory, env={**os.environ, **(env or {})})
 
 
+def datasets(path):
+    """Every dataset of the file at `path`, by its path in the file, read whole."""
+    import h5py  # here: the tests that never read a file run without it
+    out = {}
+    with h5py.File(path) as f:
+        f.visititems(lambda name, item: out.__setitem__(name, item[()])
+                     if isinstance(item, h5py.Dataset) else None)
+    return out
+
+
+def dataset_differences(a, b):
+    """How the files a and b differ dataset by dataset (paths, types, bytes); [] if in nothing,
+    and the number of datasets compared."""
+    x, y = datasets(a), datasets(b)
+    differences = [f"only in one file: {p}" for p in sorted(set(x) ^ set(y))]
+    differences += [f"{p} differs" for p in sorted(set(x) & set(y))
+                    if x[p].dtype != y[p].dtype or x[p].tobytes() != y[p].tobytes()]
+    return differences, len(y)
+
+
 def small_run(directory, orbits=2000, steps=200, name="small.h5", preset=PRESET,
               extra=EXTRA_OBSERVERS):
     """Runs the preset plus `extra` with `orbits` and `steps`; returns the file's path."""
