@@ -47,14 +47,6 @@ std::optional<double> constant_of(const Program& p) {
   return p.constants[p.outputs.front() - p.inputs];
 }
 
-bool mentions(const Formulas& f, std::string_view name) {
-  for (const Node& n : f.nodes)
-    if (n.op == Op::symbol && n.name == name) return true;
-  for (const Assignment& a : f.assignments)
-    if (a.name == name) return true;
-  return false;
-}
-
 }  // namespace
 
 std::string& text_of(MapText& t, std::string_view key) {
@@ -154,11 +146,6 @@ std::shared_ptr<const Definition> Definition::parse(const MapText& given) {
                                               " invariants");
   }
   if (!t.continuous.empty()) d->continuous_ = parse_key(t, "continuous");
-  if (d->form_ == Form::phase)
-    d->dof_ = mentions(d->step_, "q2") || mentions(d->step_, "p2") ||
-                      mentions(d->invariants_, "q2") || mentions(d->invariants_, "p2")
-                  ? 2
-                  : 1;
 
   // Lowered once at the defaults: unknown symbols, non-linear equations, missing assignments
   // and unused parameters are errors whatever the values.

@@ -4,7 +4,7 @@
 // parameter values into the programs that kernels/formula_map.hpp evaluates (Definition::lower).
 //
 //   phase     `step` assigns new q1, q2, p1, p2 in order, each assignment seeing those before it
-//             (a map that never names q2 or p2 has one degree of freedom; they stay 0).
+//             (a map that never names q2 or p2 has one degree of freedom; they keep their values).
 //   two_step  the state (q_n, q_{n+1}). Either `step` assigns q1_next, q2_next from q1_prev,
 //             q2_prev, q1, q2; or `equations` assigns eq1, eq2, linear in q1_next and q2_next, and
 //             the map solves eq1 = eq2 = 0 (a state where they are singular is that orbit's
@@ -85,7 +85,6 @@ class Definition {
 
   const MapText& text() const { return text_; }
   Form form() const { return form_; }
-  int degrees_of_freedom() const { return dof_; }
   std::span<const ParamSpec> params() const { return specs_; }
   const std::vector<std::string>& invariant_names() const { return invariant_names_; }
   const std::array<std::string_view, 4>& state_names() const;
@@ -97,7 +96,6 @@ class Definition {
   Definition() = default;
   MapText text_;
   Form form_ = Form::phase;
-  int dof_ = 2;
   std::vector<std::string> param_names_;
   std::vector<ParamSpec> specs_;
   std::vector<std::string> invariant_names_;
