@@ -26,11 +26,11 @@ def text(f, name):
     return value.decode() if isinstance(value, bytes) else value
 
 
-def map_table(text):
+def map_table(config):
     """The [map] table of a configuration's text, and the rest."""
-    start = text.index("[map]")
-    end = text.index("\n[", start + 1)
-    return text[start:end], text[:start] + text[end:]
+    start = config.index("[map]")
+    end = config.index("\n[", start + 1)
+    return config[start:end], config[:start] + config[end:]
 
 
 class FormulaMaps(unittest.TestCase):
