@@ -9,9 +9,12 @@
 // per-step hooks (core/observers/section/section_watch.hpp), chosen once per chunk outside its loop;
 // so are the steps a lane measurement records (the tunes' windows: RecordWatch), where no section
 // is watched (else those steps are taken one at a time).
+// A map that steps the K chains together (StepsChains: a formula map) is stepped so, up to each
+// sampling step at once, its watch called chain by chain as if they had been stepped one by one.
 // The scalar reference path is this code at V = double, one orbit, one checked step at a time
 // (core/runner.hpp); each SIMD instantiation lives in its ISA's unit (core/simd_unit.cpp.in).
 #include <algorithm>
+#include <concepts>
 #include <cstddef>
 #include <tuple>
 
@@ -29,6 +32,15 @@ namespace qmaps {
 namespace detail {
 
 inline constexpr long long max_chunk = 256;
+
+// A map that steps a block's K chains together, several steps at once (a formula map: its
+// program decoded once for all of them, the state kept in its registers), summing each step's
+// escape measures into `escape` and returning the sum of the fault codes.
+template <class Map, class V, int K>
+concept StepsChains = requires(const typename Map::Coeffs& c,
+                               typename Map::template State<V> (&s)[K], V& escape) {
+  { Map::template step_chains<V, K>(c, s, 1LL, escape) } -> std::same_as<V>;
+};
 
 // What a chunk steps: chains from step `first`, `steps` steps, with the escape test's bound² and
 // the samples it takes.
@@ -94,7 +106,31 @@ template <class Map, class V, int K, class Watch, class Sample>
     else
       Map::step(c, w[k]);
   };
-  if constexpr (Watch::idle) {
+  if constexpr (StepsChains<Map, V, K>) {
+    if constexpr (Watch::idle) {
+      // the steps up to each sampling step at once
+      for (long long j = 0; j < steps;) {
+        const long long taking = std::min(steps, samples.at) - j;
+        faults = faults + Map::template step_chains<V, K>(c, w, taking, acc);
+        j += taking;
+        if (!samples_taken(j - 1)) break;
+      }
+    } else {  // step by step, watched chain by chain as if stepped one by one
+      watch.start(w);
+      for (long long j = 0; j < steps; ++j) {
+        State before[K];
+        for (int k = 0; k < K; ++k) before[k] = w[k];
+        faults = faults + Map::template step_chains<V, K>(c, w, 1, acc);
+        for (int k = 0; k < K; ++k) {
+          watch.before(k, before[k]);
+          watch.after(k, j, w[k]);
+        }
+        watch.after_chains(j, w);
+        observe_one();
+        if (!samples_taken(j)) break;
+      }
+    }
+  } else if constexpr (Watch::idle) {
     // Two steps per iteration: the state's shift (q_n ← q_{n+1}) renames registers instead of
     // moving them (Suris, 8 chains, AVX-512: +2–7%).
 #pragma GCC unroll 2

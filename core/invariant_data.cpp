@@ -9,9 +9,9 @@ namespace qmaps {
 
 std::vector<std::size_t> discovery_variables(const Model& model) {
   std::vector<std::size_t> out;
-  const auto clock = model.clock_state();
+  const auto inert = model.inert_state();
   for (std::size_t k = 0; k < model.state_names().size(); ++k)
-    if (std::find(clock.begin(), clock.end(), k) == clock.end()) out.push_back(k);
+    if (std::find(inert.begin(), inert.end(), k) == inert.end()) out.push_back(k);
   return out;
 }
 

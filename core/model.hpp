@@ -87,8 +87,10 @@ class Model {
   // time_per_orbit()).
   virtual double time(const Ensemble& e, std::size_t orbit) const = 0;
   virtual bool time_per_orbit() const = 0;
-  // The state components that hold the orbit's clock (none unless time_per_orbit()).
-  virtual std::span<const std::size_t> clock_state() const = 0;
+  // The state components that are no dynamical variable (`qmaps discover` leaves them out): the
+  // orbit's clock where time_per_orbit(), and those a map written as formulas leaves as they are
+  // (q2, p2 of one degree of freedom).
+  virtual std::vector<std::size_t> inert_state() const = 0;
   // Whether the map integrates a flow that carries an orbit to a position plane (a section of
   // mode exact).
   virtual bool flows_to_plane() const = 0;

@@ -116,9 +116,13 @@ class ModelOf final : public Model {
     return Map::time(c_, e.step, state_of(e, orbit));
   }
   bool time_per_orbit() const override { return Map::time_per_orbit; }
-  std::span<const std::size_t> clock_state() const override {
-    if constexpr (Map::time_per_orbit) return Map::clock_state;
-    return {};
+  std::vector<std::size_t> inert_state() const override {
+    if constexpr (Map::time_per_orbit)
+      return {Map::clock_state.begin(), Map::clock_state.end()};
+    else if constexpr (requires { Map::inert_state(c_); })
+      return Map::inert_state(c_);
+    else
+      return {};
   }
   bool flows_to_plane() const override { return FlowsToPlane<Map>; }
   void reverse(Ensemble& e) const override {

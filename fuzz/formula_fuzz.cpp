@@ -4,7 +4,8 @@
 // (its values may be anything, never a crash), and each expression printed back must parse to
 // the same text. The same text is then a two-step map's step and its equations (linear in
 // q_{n+1}, solved): defined, or refused with a DefinitionError, and a map defined steps any
-// state. Any other exception, a crash or a sanitizer report is a finding.
+// state, chains stepped together as single steps. Any other exception, a crash or a sanitizer report is a finding.
+#include <bit>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -55,7 +56,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const Formula::Coeffs c = Formula::coefficients(std::span(&h, 1), d);
       for (const double x : {0.0, 0.5, -1e300}) {
         Formula::State<double> s = {x, -x, 2 * x, 0.25};
-        Formula::step(c, s);
+        // two chains three steps at once (the state resident where it can be) are three steps
+        Formula::State<double> chains[2] = {s, {0.25, x, -x, 2 * x}};
+        double escape = 0;
+        Formula::step_chains<double, 2>(c, chains, 3, escape);
+        for (int n = 0; n < 3; ++n) Formula::step(c, s);
+        for (std::size_t i = 0; i < 4; ++i)
+          if (std::bit_cast<std::uint64_t>(chains[0][i]) != std::bit_cast<std::uint64_t>(s[i]))
+            throw std::logic_error("chains stepped together differ from single steps");
         Formula::invariants(c, s, static_cast<double*>(nullptr));  // no invariants given
         (void)Formula::phase(c, s);
       }

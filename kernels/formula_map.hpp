@@ -72,25 +72,74 @@ struct Formula {
     return out;
   }
   static std::optional<Potential> continuous(const Coeffs& c) { return c.program->continuous; }
+  // The state components the step leaves as they are (the value of its own input): q2, p2 of a
+  // phase map of one degree of freedom, q2 at both nodes of such a two-step map.
+  static std::vector<std::size_t> inert_state(const Coeffs& c) {
+    const formula::Program& p = c.program->step;
+    std::vector<std::size_t> out;
+    if (c.program->form == formula::Form::phase) {
+      for (std::size_t k = 0; k < 4; ++k)
+        if (p.outputs[k] == k) out.push_back(k);
+    } else {
+      for (std::size_t k = 0; k < 4; ++k)  // q_k at nodes n − 1 and n
+        if (p.outputs[k % 2] == k % 2 + 2) out.push_back(k);
+    }
+    return out;
+  }
   static std::vector<std::string> invariant_names(const Coeffs& c) {
     return c.definition->invariant_names();
   }
 
+  // K chains stepped `steps` steps together, each instruction decoded once for all of them
+  // (core/block.hpp), with the state resident in the registers where the step allows
+  // (Lowered::resident): escape gets each step's escape measures, summed chain by chain before
+  // it; returns the sum of the fault codes.
+  template <class V, int K>
+  static V step_chains(const Coeffs& c, State<V> (&s)[K], long long steps, V& escape) {
+    const formula::Lowered& m = *c.program;
+    const formula::Rotation& rotation = m.resident;
+    const bool resident = !rotation.programs.empty();
+    const std::size_t turns = resident ? rotation.programs.size() : 1;
+    V* r = formula::registers_for<V, K>(resident ? rotation.programs[0] : m.step);
+    const auto at = [&](std::size_t v, std::size_t i) -> V* {  // state component i's K values
+      return r + (resident ? rotation.state_at[v][i] : i) * K;
+    };
+    for (std::size_t i = 0; i < 4; ++i)
+      for (int k = 0; k < K; ++k) at(0, i)[k] = s[k][i];
+    V faults(0.0);
+    std::size_t v = 0;
+    for (long long n = 0; n < steps; ++n) {
+      for (int k = 0; k < K; ++k)
+        escape = escape + escape_measure(State<V>{at(v, 0)[k], at(v, 1)[k], at(v, 2)[k], at(v, 3)[k]});
+      const formula::Program& p = resident ? rotation.programs[v] : m.step;
+      formula::run<V, K>(p, r);
+      const auto out = [&](std::size_t o, int k) { return r[p.outputs[o] * K + k]; };
+      if (m.solves)
+        for (int k = 0; k < K; ++k)
+          faults = faults + ops::select(out(2, k) == V(0.0),
+                                        V(static_cast<double>(EscapeReason::singular)), V(0.0));
+      if (resident) {
+        v = v + 1 == turns ? 0 : v + 1;
+        continue;
+      }
+      for (int k = 0; k < K; ++k) {  // the new state into the inputs
+        const State<V> next = m.form == formula::Form::phase
+                                  ? State<V>{out(0, k), out(1, k), out(2, k), out(3, k)}
+                                  : State<V>{r[2 * K + k], r[3 * K + k], out(0, k), out(1, k)};
+        for (std::size_t i = 0; i < 4; ++i) r[i * K + k] = next[i];
+      }
+    }
+    for (int k = 0; k < K; ++k)
+      s[k] = {at(v, 0)[k], at(v, 1)[k], at(v, 2)[k], at(v, 3)[k]};
+    return faults;
+  }
   template <class V>
   static V step(const Coeffs& c, State<V>& s) {
-    const formula::Lowered& m = *c.program;
-    const formula::Program& p = m.step;
-    V* r = run(p, s);
-    const std::uint16_t* out = p.outputs.data();
-    if (m.form == formula::Form::phase) {
-      for (std::size_t k = 0; k < 4; ++k) s[k] = r[out[k]];
-      return V(0.0);
-    }
-    const V z1 = r[out[0]], z2 = r[out[1]];
-    s = {s[2], s[3], z1, z2};
-    if (!m.solves) return V(0.0);
-    return ops::select(r[out[2]] == V(0.0),
-                       V(static_cast<double>(EscapeReason::singular)), V(0.0));
+    State<V> one[1] = {s};
+    V escape(0.0);
+    const V faults = step_chains<V, 1>(c, one, 1, escape);
+    s = one[0];
+    return faults;
   }
 
   template <class V>

@@ -2,8 +2,9 @@
 // The one list of maps. Everything that must know every map derives from it: the catalogue behind
 // --map and `qmaps list`, the per-ISA translation units (CMakeLists.txt counts the entries), the
 // agreement, contraction, reversibility, drift and convergence tests, the benchmarks and
-// `qmaps check`'s defaults. Adding a map: its header, one line here, a preset and a section in
-// docs/maps.md (tests/maps_test.cpp checks both). The last, Formula, is any map written as
+// `qmaps check`'s defaults. Adding a map: its header, one line here (the type, and its header in
+// the comment, which its per-ISA units include alone), a preset and a section in docs/maps.md
+// (tests/maps_test.cpp checks both). The last, Formula, is any map written as
 // formulas (docs/formulas.md): its paths are compiled here, its definition comes at run time.
 #include <tuple>
 
@@ -18,14 +19,14 @@ namespace qmaps::kernels {
 
 // clang-format off
 using Maps = std::tuple<
-    Suris,
-    Case2,
-    Case2Staggered,
-    Case2Hky,
-    Case3,
-    Flow,
-    Leapfrog,
-    Formula>;
+    Suris,           // kernels/suris.hpp
+    Case2,           // kernels/case2.hpp
+    Case2Staggered,  // kernels/case2.hpp
+    Case2Hky,        // kernels/case2_hky.hpp
+    Case3,           // kernels/case3.hpp
+    Flow,            // kernels/flow.hpp
+    Leapfrog,        // kernels/flow.hpp
+    Formula>;        // kernels/formula_map.hpp
 // clang-format on
 
 // f(Map{}) for every built-in map of the list, in its order.

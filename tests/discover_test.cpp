@@ -5,6 +5,10 @@
 // - the flow's H and its case's second integral in an integrable case, to the integrator's
 //   accuracy;
 // - only H (and nothing else) for the chaotic flow β = α, δ = 12α, A = B = 0;
+// - from maps written as formulas (ensembles/presets): Suris' H, I1, I2 again, the McMillan map's
+//   invariant among the two variables it moves, and nothing for Suris kicked by ε q1² q2, whose
+//   kick breaks I1 and I2 and leaves no energy-like polynomial either (its map is variational,
+//   with no discrete energy conserved exactly);
 // and `qmaps discover` prints them, and refuses bad input with exit 2.
 #include <gtest/gtest.h>
 
@@ -22,6 +26,8 @@
 #include "core/invariant_discovery.hpp"
 #include "ensembles/kinds/box.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/config/config.hpp"
+#include "ensembles/config/map_config.hpp"
 #include "kernels/catalogue.hpp"
 #include "run_process.hpp"
 
@@ -46,13 +52,15 @@ struct Found {
   std::unique_ptr<Model> model;
   Monomials monomials;
   Discovery discovery;
-  std::vector<std::vector<double>> samples;  // states (discovery's variables) to fit formulas on
+  std::vector<std::vector<double>> states;   // sample states to evaluate known invariants at
+  std::vector<std::vector<double>> samples;  // and their discovery variables, to fit them on
 };
 
-// Discovery on `orbits` orbits from the box [−q, q]⁴ (seed 7), `steps` steps each.
-Found find(std::string_view map, const ParamValues& params, int degree, std::size_t orbits,
-           long long steps, double threshold, double q = 0.5) {  // threshold 0: at the largest gap
-  Found f{make_model(map, params), Monomials(1, 1), {}, {}};
+// Discovery on `orbits` orbits of the model from the box [−q, q]⁴ (seed 7), `steps` steps each.
+Found find(std::unique_ptr<Model> model, int degree, std::size_t orbits, long long steps,
+           double threshold, double q = 0.5) {  // threshold 0: at the largest gap
+  const std::string map(model->name());
+  Found f{std::move(model), Monomials(1, 1), {}, {}, {}};
   const auto variables = discovery_variables(*f.model);
   f.monomials = Monomials(variables.size(), degree);
   const Box box({{{-q, q}, {-q, q}, {-q, q}, {-q, q}}}, 7, orbits);
@@ -61,8 +69,10 @@ Found find(std::string_view map, const ParamValues& params, int degree, std::siz
   const Box more({{{-q, q}, {-q, q}, {-q, q}, {-q, q}}}, 8, 3 * f.monomials.size());
   const Ensemble s = f.model->start(generate(more).points, Start::taylor, 1e8);
   for (std::size_t i = 0; i < s.orbits; ++i) {
-    std::vector<double> x;
+    std::vector<double> state, x;
+    for (std::size_t k = 0; k < s.state.size(); ++k) state.push_back(s.state[k][i]);
     for (std::size_t k : variables) x.push_back(s.state[k][i]);
+    f.states.push_back(state);
     f.samples.push_back(x);
   }
   DifferenceRows rows(f.monomials);
@@ -74,9 +84,17 @@ Found find(std::string_view map, const ParamValues& params, int degree, std::siz
   const Discovery& d = f.discovery;
   std::printf("[ discover ] %s, degree %d: %zu rows, %zu monomials, null space %zu, gap %.3g, "
               "smallest sigma %.3g, largest non-null %.3g\n",
-              std::string(map).c_str(), degree, d.rows, d.monomials, d.dimension, d.gap,
+              map.c_str(), degree, d.rows, d.monomials, d.dimension, d.gap,
               d.relative.back(), d.relative[d.monomials - d.dimension - 1]);
   return f;
+}
+Found find(std::string_view map, const ParamValues& params, int degree, std::size_t orbits,
+           long long steps, double threshold, double q = 0.5) {
+  return find(make_model(map, params), degree, orbits, steps, threshold, q);
+}
+// A map written as formulas, from its preset.
+std::unique_ptr<Model> preset_map(const std::string& name) {
+  return map_of(Config::load(QMAPS_SOURCE_DIR "/ensembles/presets/" + name + ".toml"));
 }
 
 // Whether the map's invariant `name` (its own formula, Model::invariants_of) is a polynomial of
@@ -86,7 +104,7 @@ void expect_in_span(const Found& f, const std::string& name, double span_toleran
   const auto at = std::find(names.begin(), names.end(), name) - names.begin();
   ASSERT_LT(static_cast<std::size_t>(at), names.size()) << name;
   std::vector<double> values;
-  for (const auto& x : f.samples) values.push_back(f.model->invariants_of(x)[static_cast<std::size_t>(at)]);
+  for (const auto& x : f.states) values.push_back(f.model->invariants_of(x)[static_cast<std::size_t>(at)]);
   const PolynomialFit fit = fit_polynomial(f.monomials, f.samples, values);
   EXPECT_LT(fit.residual, fit_tolerance) << name << " is not a polynomial of this degree";
   const double outside = outside_null_space(f.discovery, fit.coefficients);
@@ -138,6 +156,30 @@ TEST(Discover, ChaoticFlowHasOnlyItsEnergy) {
     const Found f = find("flow", flow_chaotic, degree, 100, 500, 0);
     EXPECT_EQ(f.discovery.dimension, 1u) << "degree " << degree;
     expect_in_span(f, "H", flow_span_tolerance);
+  }
+}
+
+TEST(Discover, SurisWrittenAsFormulasHasTheBuiltInMapsInvariants) {
+  const Found f = find(preset_map("suris-formulas"), 4, 100, 100, 0);
+  EXPECT_EQ(f.discovery.dimension, 2u);
+  EXPECT_GT(f.discovery.gap, map_gap_minimum);
+  for (const char* name : {"H", "I1", "I2"}) expect_in_span(f, name, map_span_tolerance);
+}
+
+TEST(Discover, McMillanInvariantAmongTheVariablesItsMapMoves) {
+  // one degree of freedom: q2 and p2 stay as they are, no variables of discovery
+  const Found f = find(preset_map("mcmillan"), 4, 100, 200, 0);
+  EXPECT_EQ(discovery_variable_names(*f.model), (std::vector<std::string>{"p1", "q1"}));
+  EXPECT_EQ(f.discovery.dimension, 1u);
+  EXPECT_GT(f.discovery.gap, map_gap_minimum);
+  expect_in_span(f, "I", map_span_tolerance);
+}
+
+TEST(Discover, SurisKickedHasNoPolynomialInvariant) {
+  // The kick −h² ∇(ε q1² q2) breaks I1 and I2, and the discrete energy H0 drifts: nothing is left.
+  for (int degree : {4, 6}) {
+    const Found f = find(preset_map("suris-kicked"), degree, 100, 200, 0);
+    EXPECT_EQ(f.discovery.dimension, 0u) << "degree " << degree;
   }
 }
 

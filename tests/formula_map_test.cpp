@@ -2,8 +2,9 @@
 // their key, line and column; Suris written as formulas (ensembles/presets/suris-formulas.toml)
 // against the built-in map, byte for byte on every path, with its chaos record; written naturally
 // (a·b + c) and as linear equations, within 1e-12 of it; a singular system as that orbit's fault;
-// the tangent against long-double central differences, det J = 1 for the symplectic classics; the
-// McMillan map's invariant to round-off.
+// the tangent against long-double central differences, det J = 1 for the symplectic classics; K
+// chains stepped together, the state resident in registers, as the single steps; the McMillan
+// map's invariant to round-off.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -311,6 +312,60 @@ TEST(FormulaMap, TangentAgreesWithCentralDifferencesAndIsSymplectic) {
           EXPECT_LT(std::fabs(j.dual[r][k] - j.central[r][k]), tangent_vs_central_difference * j.norm)
               << "d x" << r << " / d x" << k;
       EXPECT_NEAR(determinant(j.dual), 1.0, det_round_off);
+    }
+  }
+}
+
+TEST(FormulaMap, ChainsSteppedTogetherWithTheStateResidentGiveTheSingleStepsBytes) {
+  // K chains of a batch, many steps in one call (the state kept in the register file, rotating
+  // through its slots, where the step allows: resident), against each lane's scalar steps one at a
+  // time; and the escape measures summed on the way, against the chains' own.
+  using V = xsimd::batch<double>;
+  constexpr int K = 3;
+  constexpr std::size_t W = V::size;
+  const std::vector<std::pair<std::string, bool>> maps = {  // preset, resident
+      {"suris-formulas", true}, {"suris-kicked", true}, {"froeschle", true},
+      {"henon-heiles", true}, {"mcmillan", false}};  // (McMillan's q' = p: an output of no instruction)
+  for (const auto& [name, resident] : maps) {
+    const auto d = definition_of(preset(name));
+    const Formula::Coeffs c = Formula::coefficients(resolve_params(d->text().name, d->params(), {}), d);
+    EXPECT_EQ(!c.program->resident.programs.empty(), resident) << name;
+    const auto points = testing::box_points(K * W, 0.4, 0.3);
+    for (const long long steps : {1LL, 2LL, 3LL, 5LL, 64LL}) {
+      Formula::State<V> s[K];
+      std::vector<Formula::State<double>> one(points.size());
+      for (std::size_t k = 0; k < K; ++k)
+        for (std::size_t i = 0; i < 4; ++i) {
+          alignas(64) double lanes[W];
+          for (std::size_t w = 0; w < W; ++w) {
+            one[k * W + w] = Formula::from_phase_space(c, points[k * W + w], Start::taylor);
+            lanes[w] = one[k * W + w][i];
+          }
+          s[k][i] = V::load_aligned(lanes);
+        }
+      V escape(0.0);
+      Formula::step_chains<V, K>(c, s, steps, escape);
+      double escape_one = 0;
+      for (std::size_t k = 0; k < K; ++k)
+        for (std::size_t w = 0; w < W; ++w) {
+          auto& x = one[k * W + w];
+          for (long long n = 0; n < steps; ++n) {
+            escape_one += Formula::escape_measure(x);
+            Formula::step(c, x);
+          }
+          for (std::size_t i = 0; i < 4; ++i) {
+            alignas(64) double lanes[W];
+            s[k][i].store_aligned(lanes);
+            EXPECT_EQ(std::bit_cast<std::uint64_t>(lanes[w]), std::bit_cast<std::uint64_t>(x[i]))
+                << name << ", " << steps << " steps, chain " << k << ", lane " << w;
+          }
+        }
+      // (summed in another order: equal to round-off)
+      alignas(64) double sums[W];
+      escape.store_aligned(sums);
+      double escape_all = 0;
+      for (const double x : sums) escape_all += x;
+      EXPECT_NEAR(escape_all, escape_one, 1e-12 * escape_one) << name;
     }
   }
 }

@@ -3,8 +3,8 @@
 Suris written as formulas (ensembles/presets/suris-formulas.toml) writes the built-in suris map's
 file byte for byte, every dataset, with every kind of observer; its file records the formulas; a
 formula map's run interrupted and resumed, and run in shards and merged, equals the run done at
-once; a sweep runs over a formula's own parameter; bad formulas exit 2 naming key, line and
-column.
+once; a sweep runs over a formula's own parameter; `qmaps list` and `qmaps check` take a formula
+map's file; bad formulas exit 2 naming key, line and column.
 """
 import os
 import pathlib
@@ -153,6 +153,30 @@ values = [0.0, 0.3]
                 "--steps", "3", "--set", "mu=0.4")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("I", r.stdout.splitlines()[0])
+
+    def test_list_and_check_take_a_map_written_as_formulas(self):
+        r = run(self.dir, "list", PRESETS / "mcmillan.toml", PRESETS / "suris-kicked.toml")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        lines = r.stdout.splitlines()
+        self.assertTrue(lines[0].startswith("mcmillan: a map written as formulas ("), lines[0])
+        for line in ("  form: phase", "  parameters: mu = 0.6", "  step: q = p1",
+                     "        p1 = -q1 + 2*mu*q/(1 + q^2)", "  invariants tracked: I",
+                     "  invariants tracked: H0"):
+            self.assertIn(line, lines)
+        self.assertTrue(any(l.startswith("suris-kicked: a map written as formulas") for l in lines))
+        r = run(self.dir, "check", "--map", PRESETS / "mcmillan.toml", "--set", "mu=0.4",
+                "--orbits", "200", "--steps", "500")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("map mcmillan (mu = 0.4): 200 orbits", r.stdout)
+        drift = next(l for l in r.stdout.splitlines() if l.split()[:1] == ["I"])
+        self.assertLess(float(drift.split()[-1]), 1e-12)  # the worst orbit's, to round-off
+        self.assertIn("reversibility: 500 steps forward", r.stdout)
+        # a built-in map's preset is no formula map; a bad formula names its key
+        r = run(self.dir, "check", "--map", PRESETS / "suris.toml")
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("is not written as formulas", r.stderr)
+        r = run(self.dir, "list", PRESETS / "suris.toml")
+        self.assertEqual(r.returncode, 2)
 
     def test_bad_formulas_exit_2_naming_key_line_and_column(self):
         d = pathlib.Path(tempfile.mkdtemp(dir=self.dir))

@@ -1,6 +1,6 @@
 // The formulas (kernels/formula/): the parser's trees and its errors' positions, the lowering's
-// shared subexpressions, folded constants and refusals, the program over double and over a batch
-// (the same bytes), and exp against long double.
+// shared subexpressions, folded constants and refusals, its chained results, the program over
+// double and over a batch (the same bytes), and the functions against long double.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -238,6 +238,72 @@ TEST(FormulaEvaluation, EveryLaneOfABatchIsTheDoublePath) {
   }
 }
 
+TEST(FormulaLowering, ChainsEachResultToTheNextInstructionAndStoresOnlyWhatIsReadAgain) {
+  // Suris' step as its kernel writes it: fma(…, −x1) is one fms; of its 8 results only 1/(1 + g n)
+  // (read twice) and the two outputs are stored, the rest passed to the next instruction
+  const Formulas f = parse_assignments(
+      "n = fma(y1, y1, y2*y2)\ninv = 1/fma(g, n, 1)\nz1 = fma(2*(1 - A*h^2)*y1, inv, -x1)\n"
+      "z2 = fma(2*(1 - B*h^2)*y2, inv, -x2)");
+  Lowering lowering(f, {"x1", "x2", "y1", "y2"},
+                    Parameters{{"A", 0.7}, {"B", 0.3}, {"g", 0.018}, {"h", 0.1}});
+  lowering.assign_all();
+  const Program p = lowering.finish({lowering.value_of("z1", {}), lowering.value_of("z2", {})});
+  ASSERT_EQ(p.code.size(), 8u);
+  int stored = 0, fms = 0;
+  for (const Instruction& i : p.code) {
+    stored += i.stored;
+    fms += i.code == Code::fms;
+  }
+  EXPECT_EQ(stored, 3);
+  EXPECT_EQ(fms, 2);
+  EXPECT_EQ(p.code[0].chained, Chained::none);
+  EXPECT_EQ(p.code[1].chained, Chained::c);  // fma(y1, y1, y2·y2)
+}
+
+TEST(FormulaEvaluation, ChainedResultsGiveTheBytesOfResultsAllStored) {
+  // every operand read from its register and every result written: the same bytes, in the lanes
+  // of a batch and over double, for programs with chains of every kind
+  using V = xsimd::batch<double>;
+  constexpr std::size_t W = V::size, lanes = 4;
+  for (const char* text : {"t = x*y\nx = t*t - x/t\ny = fma(y, t, t) + sqrt(t*t)",
+                           "x = fma(x, y, -(x - y)/(y*y + 1))\ny = exp(x)*y - (y - x*x)",
+                           "t = -(x*x)\nx = t/(1 + t*t)\ny = (y - t) - (t - y)*(x + t)"}) {
+    const Program chained = program_of(text);
+    Program plain = chained;
+    for (Instruction& i : plain.code) {
+      i.chained = Chained::none;
+      i.stored = true;
+    }
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-2, 2);
+    std::vector<V> a(chained.registers() * lanes), b(plain.registers() * lanes);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      alignas(64) double xs[W], ys[W];
+      for (std::size_t w = 0; w < W; ++w) {
+        xs[w] = u(rng);
+        ys[w] = u(rng);
+      }
+      a[l] = b[l] = V::load_aligned(xs);
+      a[lanes + l] = b[lanes + l] = V::load_aligned(ys);
+    }
+    load_constants(chained, a.data(), lanes);
+    load_constants(plain, b.data(), lanes);
+    run<V, lanes>(chained, a.data());
+    run<V, lanes>(plain, b.data());
+    for (const std::uint16_t o : chained.outputs)
+      for (std::size_t l = 0; l < lanes; ++l) {
+        alignas(64) double x[W], y[W];
+        a[o * lanes + l].store_aligned(x);
+        b[o * lanes + l].store_aligned(y);
+        for (std::size_t w = 0; w < W; ++w)
+          EXPECT_EQ(std::bit_cast<std::uint64_t>(x[w]), std::bit_cast<std::uint64_t>(y[w])) << text;
+      }
+    int kept = 0;
+    for (const Instruction& i : chained.code) kept += i.stored;
+    EXPECT_LT(kept, static_cast<int>(chained.code.size())) << text;
+  }
+}
+
 // The program in long double with the C library's functions: the reference for differences.
 std::vector<long double> run_long_double(const Program& p, long double x, long double y) {
   std::vector<long double> r(p.registers());
@@ -254,6 +320,7 @@ std::vector<long double> run_long_double(const Program& p, long double x, long d
       case Code::div: v = a / b; break;
       case Code::neg: v = -a; break;
       case Code::fma: v = a * b + c; break;
+      case Code::fms: v = a * b - c; break;
       case Code::sqrt: v = std::sqrt(a); break;
       case Code::sin: v = std::sin(a); break;
       case Code::cos: v = std::cos(a); break;

@@ -1,4 +1,4 @@
-// `qmaps check --map NAME`: a quick integrability report. A random box of orbits runs `steps`
+// `qmaps check --map NAME` (or a formula map's FILE.toml): a quick integrability report. A random box of orbits runs `steps`
 // steps; for each invariant, percentiles of the orbits' max relative drift; then reversibility:
 // the ensemble is reversed, runs the same steps back and is reversed again, and the largest
 // difference of its phase points from the start is the reversibility error.
@@ -64,8 +64,11 @@ int check_command(const CheckOptions& o, std::ostream& out) {
   if (o.steps <= 0) throw usage_error("--steps must be > 0");
   if (o.seed < 0) throw usage_error("--seed must be >= 0");
   if (!(o.box > 0)) throw usage_error("--box must be > 0");
-  const MapEntry& map = entry_of(o.map);
-  const auto model = map.make(with_check_defaults(map, parse_params(o.sets)));
+  // a built-in map at its example's parameters where none is given, or a formula map's file
+  const auto model = o.map.ends_with(".toml")
+                         ? map_named(o.map, parse_params(o.sets), std::nullopt)
+                         : entry_of(o.map).make(with_check_defaults(entry_of(o.map),
+                                                                    parse_params(o.sets)));
 
   const double q = o.box;
   const Box box({{{-q, q}, {-q, q}, {-q, q}, {-q, q}}}, static_cast<std::uint64_t>(o.seed),

@@ -6,6 +6,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/phase.hpp"
@@ -96,7 +97,11 @@ using OrbitRow = std::function<void(std::span<const double>)>;
 std::string orbit_tunes(const OrbitOptions& options);
 std::string orbit_rows(const OrbitOptions& options, const OrbitColumns& columns,
                        const OrbitRow& row);
-int list_command(std::ostream& out);
+// The built-in maps, or the maps written as formulas in these TOML files.
+int list_command(const std::vector<std::string>& files, std::ostream& out);
+// A formula map's keys and their texts, a line each, indented (`qmaps list`, `qmaps info`).
+void write_formulas(std::ostream& out,
+                    const std::vector<std::pair<std::string, std::string>>& keys);
 int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);
 int discover_command(const DiscoverOptions& options, std::ostream& out);

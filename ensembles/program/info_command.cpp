@@ -7,7 +7,6 @@
 #include <map>
 #include <memory>
 #include <ostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -202,17 +201,11 @@ int describe(const std::string& path, std::ostream& out) {
       first = false;
     }
   out << ")\n";
-  // A map written as formulas: each key's text, indented (docs/formulas.md).
+  // A map written as formulas: each key's text (docs/formulas.md).
+  std::vector<std::pair<std::string, std::string>> formulas;
   for (const auto& name : root.attr_names())
-    if (name.rfind("formula.", 0) == 0) {
-      std::istringstream text(root.attr_string(name));
-      out << "  " << name.substr(8) << ":";
-      std::string line;
-      int lines = 0;
-      while (std::getline(text, line))
-        if (!line.empty()) out << (lines++ ? "\n      " : " ") << line;
-      out << '\n';
-    }
+    if (name.rfind("formula.", 0) == 0) formulas.emplace_back(name.substr(8), root.attr_string(name));
+  write_formulas(out, formulas);
   // The per-orbit columns read below: the escape reasons, each invariant's initial value and drift.
   const auto orbits = orbits_in(root, path, 8.0 * (1 + 2 * 8));
   out << "ensemble:   "

@@ -114,7 +114,11 @@ int main(int argc, char** argv) {
   orbit_cmd->add_option("--escape-bound", orbit.escape_bound, "escape when |q| exceeds this")
       ->capture_default_str();
 
-  app.add_subcommand("list", "every map: parameters (meaning, default), invariants, equations");
+  std::vector<std::string> list_files;
+  auto* list_cmd = app.add_subcommand(
+      "list", "every map: parameters (meaning, default), invariants, equations; with files, the "
+              "maps written as formulas there");
+  list_cmd->add_option("files", list_files, "TOML files whose [map] is written as formulas");
 
   std::string info_path;
   auto* info_cmd =
@@ -124,7 +128,9 @@ int main(int argc, char** argv) {
   qmaps::CheckOptions check;
   auto* check_cmd =
       app.add_subcommand("check", "integrability report: invariant drift and reversibility");
-  check_cmd->add_option("--map", check.map, "map name")->required();
+  check_cmd->add_option("--map", check.map,
+                        "map name, or a TOML file whose [map] is written as formulas")
+      ->required();
   check_cmd->add_option("--set", check.sets,
                         "a map parameter: name=value (repeatable; defaults "
                         "A=0.7 B=0.3 alpha=0.9 h=0.1 ...)");
@@ -191,7 +197,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return qmaps::info_command(info_path, std::cout);
     if (*check_cmd) return qmaps::check_command(check, std::cout);
     if (*discover_cmd) return qmaps::discover_command(discover, std::cout);
-    return qmaps::list_command(std::cout);
+    return qmaps::list_command(list_files, std::cout);
   } catch (const qmaps::Interrupted& e) {
     errors << "qmaps: " << e.what() << '\n';
     std::signal(e.signal(), SIG_DFL);  // ended by the signal, as the caller asked

@@ -19,6 +19,40 @@ const Names momentum_inputs = {"q1", "q2", "q1_next", "q2_next", "q1_prev", "q2_
 const Names start_inputs = {"q1", "q2", "p1", "p2"};
 constexpr std::array<std::string_view, 5> potential_names = {"A", "B", "alpha", "beta", "delta"};
 
+// The step with its state resident in registers (program.hpp's Rotation). Phase: two slots of 4,
+// the new state written beside the old (a coordinate the step keeps stays in the first);
+// two-step: three slots of 2 for q_{n−1}, q_n and q_{n+1}, in turn.
+Rotation resident(const Program& step, Form form) {
+  Rotation out;
+  const std::uint64_t id = new_program_id();  // one register file for all of them
+  const auto add = [&](std::size_t slots, std::array<std::uint16_t, 4> in,
+                       std::vector<std::uint16_t> to) {
+    auto p = with_state_in(step, slots, in, to);
+    if (!p) return false;
+    p->id = id;
+    out.programs.push_back(std::move(*p));
+    out.state_at.push_back(in);
+    return true;
+  };
+  bool all = true;
+  if (form == Form::phase) {
+    const auto slot = [&](std::size_t side, std::uint16_t k) {
+      return static_cast<std::uint16_t>(step.outputs[k] == k ? k : 4 * side + k);
+    };
+    for (std::size_t side : {0, 1})
+      all = all && add(8, {slot(side, 0), slot(side, 1), slot(side, 2), slot(side, 3)},
+                       {slot(1 - side, 0), slot(1 - side, 1), slot(1 - side, 2), slot(1 - side, 3)});
+  } else {
+    const auto slot = [](std::size_t v, std::uint16_t k) {
+      return static_cast<std::uint16_t>(2 * (v % 3) + k);
+    };
+    for (std::size_t v : {0, 1, 2})
+      all = all && add(6, {slot(v, 0), slot(v, 1), slot(v + 1, 0), slot(v + 1, 1)},
+                       {slot(v + 2, 0), slot(v + 2, 1)});
+  }
+  return all ? out : Rotation{};
+}
+
 // Runs f, reporting a FormulaError as an error of `key`.
 template <class F>
 auto in_key(std::string_view key, F&& f) {
@@ -200,6 +234,7 @@ Lowered Definition::lower(std::span<const double> values) const {
     }
     return 0;
   });
+  out.resident = resident(out.step, form_);
 
   // The two-step form's phase point and start.
   if (form_ == Form::two_step) {

@@ -66,6 +66,7 @@ class DefinitionError : public Error {
 struct Lowered {
   Form form;
   Program step;        // the new state (phase), or q1_next, q2_next [, the system's determinant]
+  Rotation resident;   // the step with its state kept in registers (none: the step copies it)
   bool solves = false;  // two_step by equations
   Program momentum;    // two_step: (q1, q2, q1_next, q2_next, q1_prev, q2_prev) → (p1, p2)
   bool momentum_reads_previous = false;

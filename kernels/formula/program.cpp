@@ -1,9 +1,12 @@
 #include "kernels/formula/program.hpp"
 
+#include <array>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "kernels/formula/evaluate.hpp"
 
@@ -13,8 +16,37 @@ namespace {
 constexpr bool commutative(Code code) { return code == Code::add || code == Code::mul; }
 // How many operands an instruction reads: a, then b, then c.
 constexpr int operands(Code code) {
-  if (code == Code::fma) return 3;
+  if (code == Code::fma || code == Code::fms) return 3;
   return code == Code::add || code == Code::sub || code == Code::mul || code == Code::div ? 2 : 1;
+}
+
+// Marks the operands that are the previous instruction's result (chained) and the results that
+// nothing else reads (not stored).
+void chain(Program& p) {
+  // the reads of each register: by the outputs and by the instructions' operands
+  std::vector<int> reads(p.registers(), 0);
+  for (const std::uint16_t r : p.outputs) ++reads[r];
+  for (const Instruction& i : p.code) {
+    ++reads[i.a];
+    if (operands(i.code) >= 2) ++reads[i.b];
+    if (operands(i.code) == 3) ++reads[i.c];
+  }
+  for (std::size_t k = 0; k < p.code.size(); ++k) {
+    Instruction& i = p.code[k];
+    i.chained = Chained::none;
+    i.stored = true;
+    if (k == 0 || !chainable(i.code) || !chainable(p.code[k - 1].code)) continue;
+    const std::uint16_t previous = p.code[k - 1].out;
+    const int n = operands(i.code);
+    // the previous result first where the order is free (a + b, a·b, a·b ± c)
+    const bool free_order = commutative(i.code) || i.code == Code::fma || i.code == Code::fms;
+    if (free_order && i.b == previous && i.a != previous) std::swap(i.a, i.b);
+    const bool a = i.a == previous, b = n >= 2 && i.b == previous, c = n == 3 && i.c == previous;
+    i.chained = a && b ? Chained::a_and_b : a ? Chained::a : b ? Chained::b : c ? Chained::c
+                                                                      : Chained::none;
+    const int passed = i.chained == Chained::a_and_b ? 2 : i.chained == Chained::none ? 0 : 1;
+    p.code[k - 1].stored = reads[previous] > passed;
+  }
 }
 
 }  // namespace
@@ -231,31 +263,38 @@ std::vector<std::uint16_t> Lowering::solve_linear(const std::vector<std::uint16_
 }
 
 Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {
+  // the instructions made, with fma(a, b, −c) as fms(a, b, c)
+  std::vector<Value> made = values_;
+  const auto negation = [&](std::uint16_t r) {
+    return r >= inputs_ && !made[r - inputs_].constant && made[r - inputs_].made.code == Code::neg;
+  };
+  for (Value& v : made)
+    if (!v.constant && v.made.code == Code::fma && negation(v.made.c))
+      v.made = {Code::fms, v.made.out, v.made.a, v.made.b, made[v.made.c - inputs_].made.a};
   // what the outputs need, back from them (an instruction reads only earlier registers)
-  std::vector<bool> needed(inputs_ + values_.size(), false);
+  std::vector<bool> needed(inputs_ + made.size(), false);
   for (const std::uint16_t r : outputs) needed[r] = true;
-  for (std::size_t k = values_.size(); k-- > 0;) {
-    const Value& v = values_[k];
+  for (std::size_t k = made.size(); k-- > 0;) {
+    const Value& v = made[k];
     if (!needed[inputs_ + k] || v.constant) continue;
     needed[v.made.a] = true;
     if (operands(v.made.code) >= 2) needed[v.made.b] = true;
     if (operands(v.made.code) == 3) needed[v.made.c] = true;
   }
-  static std::atomic<std::uint64_t> made{0};
   Program p;
-  p.id = ++made;
+  p.id = new_program_id();
   p.inputs = inputs_;
-  std::vector<std::uint16_t> final(inputs_ + values_.size(), 0);
+  std::vector<std::uint16_t> final(inputs_ + made.size(), 0);
   for (std::size_t k = 0; k < inputs_; ++k) final[k] = static_cast<std::uint16_t>(k);
-  for (std::size_t k = 0; k < values_.size(); ++k)
-    if (needed[inputs_ + k] && values_[k].constant) {
+  for (std::size_t k = 0; k < made.size(); ++k)
+    if (needed[inputs_ + k] && made[k].constant) {
       final[inputs_ + k] = static_cast<std::uint16_t>(inputs_ + p.constants.size());
-      p.constants.push_back(values_[k].number);
+      p.constants.push_back(made[k].number);
     }
   const std::size_t first = inputs_ + p.constants.size();
-  for (std::size_t k = 0; k < values_.size(); ++k)
-    if (needed[inputs_ + k] && !values_[k].constant) {
-      Instruction i = values_[k].made;
+  for (std::size_t k = 0; k < made.size(); ++k)
+    if (needed[inputs_ + k] && !made[k].constant) {
+      Instruction i = made[k].made;
       final[inputs_ + k] = static_cast<std::uint16_t>(first + p.code.size());
       i.out = final[inputs_ + k];
       i.a = final[i.a];
@@ -264,7 +303,47 @@ Program Lowering::finish(const std::vector<std::uint16_t>& outputs) const {
       p.code.push_back(i);
     }
   for (const std::uint16_t r : outputs) p.outputs.push_back(final[r]);
+  chain(p);
   return p;
+}
+
+std::uint64_t new_program_id() {
+  static std::atomic<std::uint64_t> count{0};
+  return ++count;
+}
+
+std::optional<Program> with_state_in(const Program& p, std::size_t slots,
+                                      const std::array<std::uint16_t, 4>& inputs_at,
+                                      const std::vector<std::uint16_t>& outputs_at) {
+  if (p.inputs < 4 || slots < p.inputs) return std::nullopt;
+  constexpr std::uint16_t unread = 0xffff;
+  std::vector<std::uint16_t> to(p.registers());
+  for (std::size_t r = 0; r < p.inputs; ++r) to[r] = r < 4 ? inputs_at[r] : unread;
+  for (std::size_t r = p.inputs; r < to.size(); ++r)
+    to[r] = static_cast<std::uint16_t>(r - p.inputs + slots);
+  const std::size_t first_instruction = p.inputs + p.constants.size();
+  for (std::size_t o = 0; o < outputs_at.size(); ++o) {
+    const std::uint16_t r = p.outputs[o];
+    if (r == o && inputs_at[o] == outputs_at[o]) continue;  // kept where it is
+    if (r < first_instruction) return std::nullopt;
+    for (std::size_t before = 0; before < o; ++before)
+      if (p.outputs[before] == r) return std::nullopt;
+    to[r] = outputs_at[o];
+  }
+  Program q = p;
+  q.inputs = slots;
+  for (Instruction& i : q.code) {
+    const std::array<std::uint16_t*, 3> read = {&i.a, &i.b, &i.c};
+    for (int k = 0; k < 3; ++k) {
+      std::uint16_t& r = *read[static_cast<std::size_t>(k)];
+      if (k >= operands(i.code)) r = 0;  // (not read)
+      else if (to[r] == unread) return std::nullopt;
+      else r = to[r];
+    }
+    i.out = to[i.out];
+  }
+  for (std::uint16_t& r : q.outputs) r = to[r];
+  return q;
 }
 
 }  // namespace qmaps::formula

@@ -7,9 +7,15 @@
 // step, and is refused where it is not finite: a division by a zero parameter). An integer power
 // is a product by binary powering (x⁵ = (x²)²·x), a negative one its reciprocal. Nothing is
 // reassociated, and a·b + c stays two roundings unless written fma: every path computes the same.
+// fma(a, b, −c) is fms(a, b, c), one rounding of the same value. An instruction's operand that is
+// the previous instruction's result is marked chained: evaluate.hpp passes it in the processor's
+// registers, and writes a result to its register only where something else reads it (Suris: 3 of
+// its 8 results), which halves the stores that bound the evaluation.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -22,11 +28,18 @@ namespace qmaps::formula {
 
 inline constexpr std::size_t max_instructions = 4096;
 
-enum class Code : std::uint8_t { add, sub, mul, div, neg, fma, sqrt, sin, cos, exp, log };
+enum class Code : std::uint8_t { add, sub, mul, div, neg, fma, fms, sqrt, sin, cos, exp, log };
+// The arithmetic (add … sqrt) is chained; sin, cos, exp and log read and write registers.
+constexpr bool chainable(Code code) { return code <= Code::sqrt; }
+
+// The operands of an instruction that are the previous instruction's result.
+enum class Chained : std::uint8_t { none, a, b, c, a_and_b };
 
 struct Instruction {
   Code code;
   std::uint16_t out, a, b, c;
+  Chained chained = Chained::none;
+  bool stored = true;  // false: only the next instruction reads it, chained
 };
 
 struct Program {
@@ -37,6 +50,27 @@ struct Program {
   std::uint64_t id = 0;  // unique to the program finish() made (evaluate.hpp's register files)
   std::size_t registers() const { return inputs + constants.size() + code.size(); }
 };
+
+// A step whose state stays in the register file from step to step: its first registers are slots
+// that the state's inputs and outputs rotate through, so that no step copies the state (two-step:
+// q_{n−1}, q_n, q_{n+1} in three slots of two; phase: the new state written in the slots beside
+// the old). Step n runs programs[n mod programs.size()], all on one register file; the state
+// before programs[v] is in registers state_at[v].
+struct Rotation {
+  std::vector<Program> programs;
+  std::vector<std::array<std::uint16_t, 4>> state_at;
+};
+
+// p with its state in slots: `slots` registers first, input i read from inputs_at[i] (i < 4; the
+// inputs after those must be unread) and state output o written to outputs_at[o], the other
+// registers after the slots. Nothing where a state output is no instruction's result of its own
+// (a number, an input, another output's value), except input o itself, left in place (inputs_at[o]
+// = outputs_at[o]: a coordinate the step keeps).
+std::optional<Program> with_state_in(const Program& p, std::size_t slots,
+                                      const std::array<std::uint16_t, 4>& inputs_at,
+                                      const std::vector<std::uint16_t>& outputs_at);
+// A new program id (evaluate.hpp's register files): programs sharing one file share it.
+std::uint64_t new_program_id();
 
 // Builds a program from the assignments of formulas over named inputs and parameters.
 class Lowering {
