@@ -555,7 +555,8 @@ def items(run, color_by, auto=False, resonance_order=RESONANCE_ORDER):
     for name in run.get("sections", runfile.Group("/sections")).groups:
         out.append((f"section-{name}",
                     lambda ax, n=name: draw_section(ax, run, n, color_by, auto)))
-    out.append(("drift", lambda ax: draw_drift(ax, run)))
+    if run.invariants:  # (a map written as formulas may track none)
+        out.append(("drift", lambda ax: draw_drift(ax, run)))
     if "invariants/image" in run:
         out.append(("energy-momentum", lambda ax: draw_image(ax, run)))
     if "tunes" in run.groups:
