@@ -5,6 +5,7 @@
 //   run(spec, ...)   its session: the same runner and the same file as qmaps run
 //   orbit(...)  qmaps orbit's table as a (rows, columns) float64 array
 //   maps()      qmaps list's catalogue
+//   integrability(...)  qmaps integrability's report as text, its evidence written to `out`
 // qmaps::Error becomes the package's ConfigError (bad configuration or parameters), FileError
 // (a file that cannot be read or written), UnsupportedError (an ISA this CPU lacks) or Error; a
 // signal (SIGINT, SIGTERM, SIGHUP) during a call stops it and becomes KeyboardInterrupt.
@@ -203,6 +204,24 @@ py::list maps() {
   return out;
 }
 
+std::string integrability(const std::string& map, const std::vector<std::string>& sets, int steps,
+                          long degree_cap, const std::vector<std::uint64_t>& degree_primes,
+                          int lines, const std::vector<std::uint64_t>& field_primes,
+                          std::size_t orbits, std::uint64_t max_period, int height_steps,
+                          double height_bits, std::uint64_t seed, const std::string& out) {
+  qmaps::IntegrabilityCommandOptions o{.map = map, .sets = sets, .tests = {}, .output = out};
+  o.tests = {.degree_primes = degree_primes, .lines = lines, .steps = steps,
+             .degree_cap = degree_cap, .field_primes = field_primes, .orbits = orbits,
+             .max_period = max_period, .height_steps = height_steps, .height_bits = height_bits,
+             .seed = seed};
+  std::ostringstream text;
+  {
+    const py::gil_scoped_release released;
+    qmaps::integrability_command(o, text);
+  }
+  return text.str();
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_engine, m) {
@@ -227,6 +246,10 @@ PYBIND11_MODULE(_engine, m) {
         py::arg("every"), py::arg("start"), py::arg("escape_bound"), py::arg("chaos"),
         py::arg("energy"));
   m.def("maps", &maps);
+  m.def("integrability", &integrability, py::arg("map"), py::arg("sets"), py::arg("steps"),
+        py::arg("degree_cap"), py::arg("degree_primes"), py::arg("lines"), py::arg("field_primes"),
+        py::arg("orbits"), py::arg("max_period"), py::arg("height_steps"), py::arg("height_bits"),
+        py::arg("seed"), py::arg("out"));
   m.attr("version") = qmaps::build::version;
   m.attr("commit") = qmaps::build::commit;
 }

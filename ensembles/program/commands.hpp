@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/phase.hpp"
+#include "integrability/verdict.hpp"
 
 namespace qmaps {
 
@@ -86,6 +87,13 @@ struct DiscoverOptions {
   bool csv = false;               // the invariants as CSV rows instead of the report
 };
 
+struct IntegrabilityCommandOptions {
+  std::string map;                // a built-in map's name or a formula map's .toml file
+  std::vector<std::string> sets;  // "name=value" map parameters
+  exact::IntegrabilityOptions tests;
+  std::string output;             // the HDF5 file, or none
+};
+
 // Each returns the process exit code; errors are thrown as qmaps::Error.
 int run_command(const RunOptions& options, std::ostream& log);
 int orbit_command(const OrbitOptions& options, std::ostream& out, std::ostream& log);
@@ -105,6 +113,9 @@ void write_formulas(std::ostream& out,
 int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);
 int discover_command(const DiscoverOptions& options, std::ostream& out);
+int integrability_command(const IntegrabilityCommandOptions& options, std::ostream& out);
+// The tests' report alone (the Python function).
+exact::Report integrability_report(const IntegrabilityCommandOptions& options);
 int merge_command(const MergeOptions& options, std::ostream& log);
 
 }  // namespace qmaps

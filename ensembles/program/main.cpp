@@ -167,6 +167,43 @@ int main(int argc, char** argv) {
   discover_cmd->add_flag("--csv", discover.csv,
                          "the invariants as CSV rows (invariant,monomial,coefficient)");
 
+  qmaps::IntegrabilityCommandOptions integrability;
+  auto& tests = integrability.tests;
+  auto* integrability_cmd = app.add_subcommand(
+      "integrability", "is a rational map integrable? degree growth, orbits over finite fields, "
+                       "height growth (docs/integrability.md)");
+  integrability_cmd->add_option("--map", integrability.map,
+                                "map name, or a TOML file whose [map] is written as formulas")
+      ->required();
+  integrability_cmd->add_option("--set", integrability.sets, "a map parameter: name=value (repeatable)");
+  integrability_cmd->add_option("--steps", tests.steps, "degree growth: steps")->capture_default_str();
+  integrability_cmd->add_option("--degree-cap", tests.degree_cap,
+                                "degree growth: stop where a degree passes this")
+      ->capture_default_str();
+  integrability_cmd->add_option("--degree-primes", tests.degree_primes,
+                                "degree growth: the primes p of F_p(t) (default two near 2^61)")
+      ->delimiter(',');
+  integrability_cmd->add_option("--lines", tests.lines, "degree growth: random lines per prime")
+      ->capture_default_str();
+  integrability_cmd->add_option("--field-primes", tests.field_primes,
+                                "finite fields: the primes (default 1009,4001,10007 for 2 "
+                                "coordinates, 31,61,101 for 4)")
+      ->delimiter(',');
+  integrability_cmd->add_option("--orbits", tests.orbits, "finite fields: orbits per prime")
+      ->capture_default_str();
+  integrability_cmd->add_option("--max-period", tests.max_period,
+                                "finite fields: an orbit not back by then is counted apart (default "
+                                "64 p^(d/2))");
+  integrability_cmd->add_option("--height-steps", tests.height_steps, "height growth: steps")
+      ->capture_default_str();
+  integrability_cmd->add_option("--height-bits", tests.height_bits,
+                                "height growth: stop where a height passes this many bits")
+      ->capture_default_str();
+  integrability_cmd->add_option("--seed", tests.seed, "the lines, points and bootstrap")
+      ->capture_default_str();
+  integrability_cmd->add_option("--out", integrability.output,
+                                "also write the evidence to this HDF5 file");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -182,7 +219,8 @@ int main(int argc, char** argv) {
     if (qmaps::ranks::count() > 1 && !*run_cmd)
       throw qmaps::usage_error("under mpirun, qmaps runs `qmaps run` alone");
     // An option given empty is no option left out: `--out ""` names no file.
-    for (auto* out : {run_cmd->get_option("--out"), merge_cmd->get_option("--out")})
+    for (auto* out : {run_cmd->get_option("--out"), merge_cmd->get_option("--out"),
+                      integrability_cmd->get_option("--out")})
       if (out->count() > 0 && out->as<std::string>().empty())
         throw qmaps::usage_error("--out: the output's name is empty");
     // A run's outcome is its files: a summary written to a closed pipe (qmaps run | head) fails
@@ -197,6 +235,7 @@ int main(int argc, char** argv) {
     if (*info_cmd) return qmaps::info_command(info_path, std::cout);
     if (*check_cmd) return qmaps::check_command(check, std::cout);
     if (*discover_cmd) return qmaps::discover_command(discover, std::cout);
+    if (*integrability_cmd) return qmaps::integrability_command(integrability, std::cout);
     return qmaps::list_command(list_files, std::cout);
   } catch (const qmaps::Interrupted& e) {
     errors << "qmaps: " << e.what() << '\n';

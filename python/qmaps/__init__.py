@@ -11,13 +11,16 @@ Hamiltonian, in process (docs/python.md).
     earlier = qmaps.load("suris.h5")          # a file, opened lazily
     kick = qmaps.Map("standard", "phase", {"K": 0.9}, step="p1 = p1 - K*sin(q1); q1 = q1 + p1")
     run = qmaps.run({"map": kick, ...})       # a map written as formulas (docs/formulas.md)
+    qmaps.integrability("suris", {...})       # is it integrable? (docs/integrability.md)
 
 qmaps.plot draws a file's pictures (the qmaps-plot program).
 """
 from .engine import Spec, maps, orbit, run, spec
 from .errors import ConfigError, Error, FileError, UnsupportedError
 from .formula_map import Map
+from .integrability import Integrability, integrability
 from .runfile import Group, Histogram, Run, load
 
-__all__ = ["run", "spec", "Spec", "orbit", "maps", "Map", "load", "Run", "Group", "Histogram", "Error", "ConfigError",
+__all__ = ["run", "spec", "Spec", "orbit", "maps", "Map", "integrability", "Integrability", "load",
+           "Run", "Group", "Histogram", "Error", "ConfigError",
            "FileError", "UnsupportedError"]

@@ -21,6 +21,9 @@ With [tunes] (/tunes):
   <stem>-tune-amplitude     a line's nu1 and nu2 against the coordinate that varies most on it
   <stem>-tune-diffusion     the diffusion's histogram, the round-off floor 2^-53 marked
   <stem>-summary            all of them in one image, two panels per row up to four, else three
+The file of `qmaps integrability --out` (docs/integrability.md) gets one image instead,
+<stem>-integrability: the degree sequences on a log scale with their fitted growth, each prime's
+periods over lambda against R(x) = 1 - e^-x (1 + x), and the log heights.
 A sweep's file (docs/sweeps.md) gets one image instead, <stem>-sweep: over the parameter plane
 (or line), the chaotic fraction and the median MEGNO with [chaos], and the worst invariant drift,
 with the known integrable cases (a second integral the map names there) and delta = 0 marked.
@@ -34,6 +37,7 @@ Exit codes as qmaps: 2 bad command line, 3 a file that cannot be read or written
 """
 import argparse
 import math
+import os
 import pathlib
 import re
 import sys
@@ -694,6 +698,16 @@ def default_colouring(run):
     return "orbit"
 
 
+def is_integrability_file(path):
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            return "integrability" in f
+    except OSError:
+        return False  # runfile.load says why
+
+
 def plot(path, out_dir, fmt="png", dpi=200, color_by=None, auto=False, style_name="screen",
          resonance_order=RESONANCE_ORDER):
     """Writes every picture of the run at `path` into `out_dir` in the style named; returns the
@@ -707,7 +721,61 @@ def plot(path, out_dir, fmt="png", dpi=200, color_by=None, auto=False, style_nam
         return plot_in_style(path, out_dir, fmt, dpi, color_by, auto, resonance_order)
 
 
+def draw_integrability(fig, result):
+    """The three panels of an Integrability (qmaps.integrability, or its file)."""
+    degrees, periods, heights = fig.subplots(1, 3)
+    d = result.degrees
+    for run in d["runs"]:
+        degrees.semilogy(np.arange(len(run["degrees"])), np.maximum(run["degrees"], 1), marker=".",
+                         linewidth=1, label=f"p = {run['prime']}, line {run['line']}")
+    growth = d["growth"] + (f", log λ = {d['entropy']:.6g}" if d["growth"] == "exponential" else
+                            f", n^{d['polynomial_degree']:.3g}" if d["growth"] == "polynomial" else "")
+    degrees.set(xlabel="step n", ylabel="degree $d_n$", title=f"degree growth: {growth}")
+    degrees.legend(fontsize=pt(7))
+    top = 0
+    for prime, field in sorted(result.fields.items()):
+        t = np.sort(np.asarray(field["periods"], dtype=float))
+        if len(t) < 2:
+            continue
+        x = t / (t.mean() / 2)
+        top = max(top, x[-1])
+        periods.step(x, np.arange(1, len(x) + 1) / len(x), where="post", linewidth=1,
+                     label=f"p = {prime}: D = {field['ks_distance']:.3f}")
+    x = np.linspace(0, max(top, 1), 400)
+    periods.plot(x, 1 - np.exp(-x) * (1 + x), "k--", linewidth=1.5, label="R(x)")
+    periods.set(xlabel="period / λ,  λ = mean / 2", ylabel="fraction of points",
+                title=f"orbits over finite fields: {result.fields_says}")
+    periods.legend(fontsize=pt(7))
+    h = result.heights
+    heights.semilogy(np.arange(len(h["log_heights"])), np.maximum(h["log_heights"], 1e-3),
+                     marker=".", linewidth=1)
+    heights.set(xlabel="step n", ylabel="log height", title=f"height growth: {h['growth']}")
+    fig.suptitle(f"{result.map}: {result.verdict} ({result.reason})", fontsize=pt(10))
+
+
+def integrability(result, path=None, dpi=200):
+    """The figure of an Integrability (or of the file `qmaps integrability --out` wrote), saved to
+    `path` when one is given."""
+    if not hasattr(result, "degrees"):
+        from .integrability import Integrability
+        result = Integrability(os.fspath(result), "")
+    fig = plt.figure(figsize=(style["panel"][0] * 3, style["panel"][1]), layout="constrained")
+    draw_integrability(fig, result)
+    if path is not None:
+        save(fig, pathlib.Path(path), dpi)
+    return fig
+
+
 def plot_in_style(path, out_dir, fmt, dpi, color_by, auto, resonance_order):
+    if is_integrability_file(path):
+        out_dir = pathlib.Path(out_dir)
+        try:
+            out_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as e:
+            raise runfile.FileError(f"{out_dir}: cannot create ({e.strerror})") from e
+        written = out_dir / f"{pathlib.Path(path).stem}-integrability.{fmt}"
+        integrability(path, written, dpi)
+        return [written]
     run = runfile.load(path, skip=UNUSED + ("sweep/runs/*",))
     if "sweep" in run.groups:
         out_dir = pathlib.Path(out_dir)

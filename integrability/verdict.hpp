@@ -1,0 +1,61 @@
+#pragma once
+// The three integrability tests of one map and their verdict (docs/integrability.md): degree
+// growth, orbits over finite fields, height growth. Each test says integrable, not integrable or
+// undecided; the verdict is the tests' where they agree, the degree test's where the others are
+// undecided (it is the sharpest: an exact sequence, fitted exactly), and undecided where any two
+// decided tests disagree, naming them.
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "integrability/degree_growth.hpp"
+#include "integrability/exact_map.hpp"
+#include "integrability/finite_field_orbits.hpp"
+#include "integrability/height_growth.hpp"
+
+namespace qmaps::exact {
+
+struct IntegrabilityOptions {
+  // degree growth
+  std::vector<std::uint64_t> degree_primes;  // empty: two primes near 2^61
+  int lines = 2;
+  int steps = 30;
+  long degree_cap = 100000;
+  // finite fields
+  std::vector<std::uint64_t> field_primes;  // empty: three primes, by the map's dimension
+  std::size_t orbits = 1000;
+  std::uint64_t max_period = 0;  // 0: 64 p^(d/2)
+  // heights
+  int height_steps = 40;
+  double height_bits = 1 << 20;
+  std::uint64_t seed = 1;
+};
+
+enum class Says { integrable, not_integrable, undecided };
+std::string to_string(Says s);
+
+// The finite-field test's thresholds on the Kolmogorov–Smirnov distance from R at the largest
+// prime: below near_R, consistent with a non-integrable reversible map; above far_from_R, not.
+inline constexpr double near_R = 0.06, far_from_R = 0.1;
+
+struct Report {
+  std::string map, evaluated_by;
+  std::vector<std::string> varying, invariant_names;
+  bool invariants_exact = false;
+  DegreeTest degrees;
+  std::vector<FieldOrbits> fields;
+  HeightTest heights;
+  Says degree_says = Says::undecided, field_says = Says::undecided, height_says = Says::undecided;
+  Says verdict = Says::undecided;
+  bool tests_agree = false;
+  std::string reason;
+};
+
+// The options' defaults filled in for this map (primes by its dimension), checked: a number that
+// is not prime, or too large for its arithmetic, is a usage error naming the option.
+IntegrabilityOptions resolved(const IntegrabilityOptions& o, const ExactMap& map);
+Report integrability_report(const ExactMap& map, const IntegrabilityOptions& resolved_options);
+void write_text(std::ostream& out, const Report& r);
+
+}  // namespace qmaps::exact
