@@ -4,7 +4,8 @@
 // (its values may be anything, never a crash), and each expression printed back must parse to
 // the same text. The same text is then a two-step map's step and its equations (linear in
 // q_{n+1}, solved): defined, or refused with a DefinitionError, and a map defined steps any
-// state, chains stepped together as single steps. Any other exception, a crash or a sanitizer report is a finding.
+// state, chains stepped together as single steps; and evaluated exactly (integrability/), a few
+// steps over F_p(t), F_p and Q, or refused as not rational. Any other exception, a crash or a sanitizer report is a finding.
 #include <bit>
 #include <cstdint>
 #include <stdexcept>
@@ -17,6 +18,10 @@
 #include "kernels/formula_map.hpp"
 #include "kernels/formula/expression.hpp"
 #include "kernels/formula/program.hpp"
+#include "core/error.hpp"
+#include "integrability/degree_growth.hpp"
+#include "integrability/finite_field_orbits.hpp"
+#include "integrability/height_growth.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace qmaps::formula;
@@ -66,6 +71,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
             throw std::logic_error("chains stepped together differ from single steps");
         Formula::invariants(c, s, static_cast<double*>(nullptr));  // no invariants given
         (void)Formula::phase(c, s);
+      }
+      try {
+        const auto m = qmaps::exact::exact_map(d, {h});
+        (void)qmaps::exact::degree_sequence(m, (1ULL << 61) - 1, 0, 3, 256, 1);
+        (void)qmaps::exact::finite_field_orbits(m, 101, 64, 512, 1);
+        (void)qmaps::exact::height_test(m, 3, 4096, 1);
+      } catch (const DefinitionError&) {  // not rational
+      } catch (const qmaps::exact::DivisionByZero&) {  // 101 divides a coefficient's denominator
+      } catch (const qmaps::Error& e) {   // defined almost nowhere
+        if (e.code() != qmaps::ExitCode::usage) throw;
       }
     } catch (const DefinitionError&) {
     }

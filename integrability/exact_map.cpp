@@ -169,7 +169,7 @@ void fill_formula(ExactMap& m, const std::shared_ptr<const FormulaPrograms>& f) 
 }
 
 // Which coordinates the step changes, and whether the invariants are exactly invariant: at three
-// random points over F_p, p = 2^61 − 1 (a polynomial identity that fails fails at a random point
+// random points where the step is defined over F_p, p = 2^61 − 1 (a polynomial identity that fails fails at a random point
 // with probability at most its degree over p).
 void measure(ExactMap& m) {
   PrimeField field((1ULL << 61) - 1);
@@ -177,7 +177,8 @@ void measure(ExactMap& m) {
   std::vector<bool> varies(4, false);
   bool exact = !m.invariant_names.empty();
   const std::size_t ni = m.invariant_names.size();
-  for (int trial = 0; trial < 3; ++trial) {
+  int defined = 0;
+  for (int trial = 0; trial < 64 && defined < 3; ++trial) {
     State<Residue> x;
     for (auto& v : x) v = Residue::of(random() % field.mod().n);
     State<Residue> y = x;
@@ -190,10 +191,13 @@ void measure(ExactMap& m) {
         m.invariants(y, after.data());
         exact = exact && before == after;
       }
-    } catch (const DivisionByZero&) {
-      --trial;  // a point where the map is not defined: another one
+      ++defined;
+    } catch (const DivisionByZero&) {  // a point where the map is not defined: another one
     }
   }
+  if (defined < 3)
+    throw usage_error(m.name + ": the step divides by zero at " + std::to_string(64 - defined) +
+                      " of 64 random points over F_p, p = 2^61 - 1: it is defined almost nowhere");
   for (std::size_t k = 0; k < 4; ++k)
     if (varies[k]) m.varying.push_back(k);
   m.invariants_exact = exact;

@@ -105,12 +105,12 @@ FunctionOfT::FunctionOfT(FunctionOfT&& o) noexcept {
   nmod_poly_init_preinv(num_, o.num_->mod.n, o.num_->mod.ninv);
   nmod_poly_init_preinv(den_, o.num_->mod.n, o.num_->mod.ninv);
   set_one(den_);
-  nmod_poly_swap(num_, o.num_);
-  nmod_poly_swap(den_, o.den_);
+  std::swap(num_[0], o.num_[0]);  // the whole struct: nmod_poly_swap keeps each one's modulus
+  std::swap(den_[0], o.den_[0]);
 }
 FunctionOfT& FunctionOfT::operator=(FunctionOfT o) noexcept {
-  nmod_poly_swap(num_, o.num_);
-  nmod_poly_swap(den_, o.den_);
+  std::swap(num_[0], o.num_[0]);
+  std::swap(den_[0], o.den_[0]);
   return *this;
 }
 FunctionOfT::~FunctionOfT() {

@@ -18,12 +18,10 @@ std::uint64_t splitmix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-// Orbit i's starting point: its changing coordinates uniform in F_p, the others 0.
 void start_point(const ExactMap& map, std::uint64_t seed, std::uint64_t i, std::uint64_t p,
                  std::array<double, 4>& x) {
-  x = {0, 0, 0, 0};
-  for (const std::size_t k : map.varying)
-    x[k] = static_cast<double>(splitmix(splitmix(seed) ^ (4 * i + k)) % p);
+  const auto r = orbit_start(map, seed, i, p);
+  for (std::size_t k = 0; k < 4; ++k) x[k] = static_cast<double>(r[k]);
 }
 
 double ks_distance(std::vector<double> x) {  // against R, x sorted here
@@ -88,6 +86,13 @@ void check_levels(const ExactMap& map, std::uint64_t prime, std::uint64_t seed,
 }
 
 }  // namespace
+
+std::array<std::uint64_t, 4> orbit_start(const ExactMap& map, std::uint64_t seed, std::uint64_t i,
+                                         std::uint64_t p) {
+  std::array<std::uint64_t, 4> x{};
+  for (const std::size_t k : map.varying) x[k] = splitmix(splitmix(seed) ^ (4 * i + k)) % p;
+  return x;
+}
 
 double universal_law(double x) { return x <= 0 ? 0 : 1 - std::exp(-x) * (1 + x); }
 
@@ -159,7 +164,8 @@ FieldOrbits finite_field_orbits(const ExactMap& map, std::uint64_t prime, std::s
     scale_by_mean(x);
     out.ks_distance = ks_distance(x);
     // The bootstrap: samples of Gamma(2, 1) of the same size, scaled as the data are.
-    constexpr int samples = 200;
+    // 200 samples, fewer for many periods (at least 20: 2·10^6 draws in all).
+    const int samples = static_cast<int>(std::clamp<std::size_t>(2000000 / x.size(), 20, 200));
     std::mt19937_64 random(seed ^ prime);
     std::uniform_real_distribution<double> uniform(0, 1);
     int as_far = 0;

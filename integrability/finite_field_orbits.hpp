@@ -2,7 +2,7 @@
 // Orbits over a finite field (Roberts–Vivaldi; docs/integrability.md): the map over F_p^d (d the
 // coordinates its step changes), from random points, each orbit stepped until it returns to its
 // start (its period T), meets a point where a denominator vanishes mod p (counted apart), or runs
-// past max_period. Lanes orbits at once in ResidueLanes; the point of orbit i depends on (seed, i)
+// past max_period. Lanes::lanes orbits at once (ResidueLanes); the point of orbit i depends on (seed, i)
 // alone, so the periods do not depend on the threads.
 //
 // The statistic: a reversible map that is not integrable has, as p grows, the periods of a
@@ -10,7 +10,8 @@
 // R(x) = 1 − e^(−x)(1 + x), with λ = 2N/#(Fix G ∪ Fix H). R is the law of a Gamma(2, 1) variable,
 // whose mean is 2, so λ is estimated as half the mean period of points drawn uniformly; the
 // Kolmogorov–Smirnov distance D between the periods over λ and R, and its p-value by a parametric
-// bootstrap (samples of R of the same size, each scaled by its own mean, as the data are). An
+// bootstrap (200 samples of R of the same size, fewer beyond 10^4 periods, each scaled by its own
+// mean, as the data are). An
 // integrable map's orbits lie on the level sets of its invariants, whose periods follow another
 // law: D stays large as p grows. Where the map's invariants are exact, the orbits of the first
 // block are checked to keep every invariant's value mod p at every step.
@@ -38,6 +39,12 @@ struct FieldOrbits {
 
 FieldOrbits finite_field_orbits(const ExactMap& map, std::uint64_t prime, std::size_t orbits,
                                 std::uint64_t max_period, std::uint64_t seed);
+// Orbit i's starting point: the changing coordinates uniform in F_p, the others 0.
+std::array<std::uint64_t, 4> orbit_start(const ExactMap& map, std::uint64_t seed, std::uint64_t i,
+                                         std::uint64_t p);
+// Orbit i's starting point: the changing coordinates uniform in F_p, the others 0.
+std::array<std::uint64_t, 4> orbit_start(const ExactMap& map, std::uint64_t seed, std::uint64_t i,
+                                         std::uint64_t p);
 // R(x) = 1 − e^(−x)(1 + x)
 double universal_law(double x);
 

@@ -1,6 +1,7 @@
 #include "integrability/residue_lanes.hpp"
 
 #include <cstring>
+#include <limits>
 
 #include <flint/ulong_extras.h>
 
@@ -13,9 +14,8 @@ LaneField::LaneField(std::uint64_t prime)
       outer_(current_) {
   if (prime > max_lane_prime) throw std::logic_error("a lane prime above 2^26");
   if (prime <= (1U << 20)) {
-    inverses.assign(prime, 0);
-    for (std::uint64_t a = 1; a < prime; ++a)
-      inverses[a] = static_cast<std::uint32_t>(n_invmod(a, prime));
+    inverses.assign(prime, std::numeric_limits<double>::quiet_NaN());
+    for (std::uint64_t a = 1; a < prime; ++a) inverses[a] = static_cast<double>(n_invmod(a, prime));
   }
   cached_bits_.fill(~0ULL);  // a NaN's pattern, which no constant has
   current_ = this;

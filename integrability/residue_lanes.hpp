@@ -6,6 +6,8 @@
 //   quotient or one more, and a·b − q·p, exact, lies in (−p, p): one p added where it is negative.
 // A lane whose denominator vanished is NaN and stays NaN through every later operation: the orbit
 // met a point where the map is not defined. Inverses come from a table (p ≤ 2^20) or as a^(p−2).
+// A correction is the select of a constant (0 or p) added, so that no operation that may raise a
+// floating-point exception is executed conditionally, and the loops vectorize.
 #include <array>
 #include <bit>
 #include <cmath>
@@ -30,7 +32,7 @@ class LaneField {
   LaneField& operator=(const LaneField&) = delete;
   static const LaneField& get() { return *current_; }
   double p, inverse_p;
-  std::vector<std::uint32_t> inverses;  // of 0 … p − 1 (0's unused), where p ≤ 2^20
+  std::vector<double> inverses;  // of 0 … p − 1 (0's: NaN), where p ≤ 2^20
   double constant(double x) const;      // x's residue (a cached PrimeField::reduce)
 
  private:
@@ -54,7 +56,7 @@ struct ResidueLanes {
     ResidueLanes r;
     for (std::size_t i = 0; i < W; ++i) {
       const double s = a.v[i] + b.v[i];
-      r.v[i] = s >= p ? s - p : s;
+      r.v[i] = s - (s >= p ? p : 0.0);
     }
     return r;
   }
@@ -63,7 +65,7 @@ struct ResidueLanes {
     ResidueLanes r;
     for (std::size_t i = 0; i < W; ++i) {
       const double s = a.v[i] - b.v[i];
-      r.v[i] = s < 0 ? s + p : s;
+      r.v[i] = s + (s < 0 ? p : 0.0);
     }
     return r;
   }
@@ -76,20 +78,18 @@ struct ResidueLanes {
   friend ResidueLanes operator/(const ResidueLanes& a, const ResidueLanes& b) {
     const LaneField& f = LaneField::get();
     ResidueLanes r;
-    for (std::size_t i = 0; i < W; ++i) {
-      const double d = b.v[i];
-      double inverse;
-      if (!(d > 0)) {  // 0, or NaN already
-        inverse = std::numeric_limits<double>::quiet_NaN();
-      } else if (!f.inverses.empty()) {
-        inverse = f.inverses[static_cast<std::size_t>(d)];
-      } else {  // d^(p−2)
-        inverse = 1;
-        double base = d;
-        for (std::uint64_t e = static_cast<std::uint64_t>(f.p) - 2; e; e >>= 1) {
-          if (e & 1) inverse = times(inverse, base, f.p, f.inverse_p);
-          base = times(base, base, f.p, f.inverse_p);
-        }
+    if (!f.inverses.empty()) {  // the table, whose entry 0 is NaN: a NaN lane reads it too
+      for (std::size_t i = 0; i < W; ++i) {
+        const double d = b.v[i] == b.v[i] ? b.v[i] : 0.0;
+        r.v[i] = times(a.v[i], f.inverses[static_cast<std::size_t>(d)], f.p, f.inverse_p);
+      }
+      return r;
+    }
+    for (std::size_t i = 0; i < W; ++i) {  // b^(p−2)
+      double inverse = b.v[i] > 0 ? 1.0 : std::numeric_limits<double>::quiet_NaN(), base = b.v[i];
+      for (std::uint64_t e = static_cast<std::uint64_t>(f.p) - 2; e; e >>= 1) {
+        if (e & 1) inverse = times(inverse, base, f.p, f.inverse_p);
+        base = times(base, base, f.p, f.inverse_p);
       }
       r.v[i] = times(a.v[i], inverse, f.p, f.inverse_p);
     }
@@ -99,7 +99,7 @@ struct ResidueLanes {
   static double times(double a, double b, double p, double inverse_p) {
     constexpr double round = 0x1p52;
     const double x = a * b, q = (x * inverse_p + round) - round, r = x - q * p;
-    return r < 0 ? r + p : r;
+    return r + (r < 0 ? p : 0.0);
   }
 };
 

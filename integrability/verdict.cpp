@@ -102,7 +102,12 @@ Report integrability_report(const ExactMap& map, const IntegrabilityOptions& o) 
         o.max_period ? o.max_period
                      : static_cast<std::uint64_t>(64 * std::pow(static_cast<double>(p), d / 2));
     try {
-      r.fields.push_back(finite_field_orbits(map, p, o.orbits, max_period, o.seed));
+      FieldOrbits f = finite_field_orbits(map, p, o.orbits, max_period, o.seed);
+      if (f.periods.size() < o.orbits / 2) {  // most orbits singular: draw more, up to 20 times
+        const std::size_t more = f.periods.empty() ? 20 : std::min<std::size_t>(20, (o.orbits + f.periods.size() - 1) / f.periods.size());
+        if (more > 1) f = finite_field_orbits(map, p, o.orbits * more, max_period, o.seed);
+      }
+      r.fields.push_back(std::move(f));
     } catch (const DivisionByZero&) {
       throw usage_error("--field-primes: " + std::to_string(p) +
                         " divides the denominator of one of the map's coefficients; choose another prime");
@@ -115,9 +120,11 @@ Report integrability_report(const ExactMap& map, const IntegrabilityOptions& o) 
   r.height_says = says(r.heights.growth.kind);
   const FieldOrbits& last = r.fields.back();
   const bool levels_broken = last.level_checked && last.level_kept < last.level_checked;
-  if (last.periods.size() >= 20 && !levels_broken) {
-    if (last.ks_distance <= near_R) r.field_says = Says::not_integrable;
-    else if (last.ks_distance >= far_from_R) r.field_says = Says::integrable;
+  if (last.periods.size() >= min_periods && !levels_broken) {
+    if (last.p_value >= significance || last.ks_distance <= near_R)
+      r.field_says = Says::not_integrable;
+    else if (last.ks_distance >= far_from_R)
+      r.field_says = Says::integrable;
   }
 
   std::vector<std::pair<std::string, Says>> decided;
@@ -177,9 +184,10 @@ void write_text(std::ostream& out, const Report& r) {
     out << "\n";
   }
   out << "  D(R): the Kolmogorov-Smirnov distance of the periods over lambda = mean/2 from "
-         "R(x) = 1 - e^-x (1 + x); at most "
-      << near_R << ": the law of a reversible map that is not integrable; at least " << far_from_R
-      << ": far from it\n";
+         "R(x) = 1 - e^-x (1 + x); a p-value of at least "
+      << significance << " or D at most " << near_R
+      << ": the law of a reversible map that is not integrable; D at least " << far_from_R
+      << " with a p-value below " << significance << ": far from it\n";
   if (r.invariant_names.empty()) out << "  levels: the map names no invariants\n";
   else if (!r.invariants_exact)
     out << "  levels: not checked: the invariants are not exactly invariant at these parameters "

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/params.hpp"
 #include "core/phase.hpp"
 #include "integrability/verdict.hpp"
 
@@ -114,6 +115,8 @@ int info_command(const std::string& path, std::ostream& out);
 int check_command(const CheckOptions& options, std::ostream& out);
 int discover_command(const DiscoverOptions& options, std::ostream& out);
 int integrability_command(const IntegrabilityCommandOptions& options, std::ostream& out);
+// The map `--map` names (a built-in map, or a formula map's .toml file), to be evaluated exactly.
+exact::ExactMap exact_map_named(const std::string& map, const ParamValues& params);
 // The tests' report alone (the Python function).
 exact::Report integrability_report(const IntegrabilityCommandOptions& options);
 int merge_command(const MergeOptions& options, std::ostream& log);

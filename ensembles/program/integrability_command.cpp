@@ -13,7 +13,6 @@
 #include "core/version.hpp"
 
 namespace qmaps {
-namespace {
 
 exact::ExactMap exact_map_named(const std::string& map, const ParamValues& params) {
   if (map.size() < 5 || map.compare(map.size() - 5, 5, ".toml") != 0)
@@ -36,6 +35,8 @@ exact::ExactMap exact_map_named(const std::string& map, const ParamValues& param
     throw Error(e.code(), config.where("map", e.key()) + ": " + e.reason());
   }
 }
+
+namespace {
 
 void write_growth(const h5::Group& g, const exact::Growth& growth) {
   g.attr("growth", exact::to_string(growth.kind));
@@ -80,6 +81,7 @@ void write_report(const h5::Group& root, const exact::Report& r) {
   fields.attr("says", exact::to_string(r.field_says));
   fields.attr("near_R", exact::near_R);
   fields.attr("far_from_R", exact::far_from_R);
+  fields.attr("significance", exact::significance);
   fields.attr("invariants_exact", static_cast<std::int64_t>(r.invariants_exact));
   for (const auto& f : r.fields) {
     const h5::Group g = fields.create_group("p" + std::to_string(f.prime));

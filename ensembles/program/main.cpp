@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
 
   qmaps::CheckOptions check;
   auto* check_cmd =
-      app.add_subcommand("check", "integrability report: invariant drift and reversibility");
+      app.add_subcommand("check", "invariant drift and reversibility over a random box");
   check_cmd->add_option("--map", check.map,
                         "map name, or a TOML file whose [map] is written as formulas")
       ->required();
