@@ -2,8 +2,8 @@
 //   field_orbits/<map>/<p>/<orbits>/<threads>  orbits over F_p, each to its return (the period
 //       statistics), or, with max_period 64, 10^6 orbits stepped 64 times each (stepping alone);
 //       items_per_second = map steps/s over all orbits
-//   degrees/<map>  the degree test of `qmaps integrability` (2 primes × 2 lines, 30 steps or the
-//       cap of 10^5); items_per_second = F_p(t) steps/s
+//   degrees/<map>  the degree test of `qmaps integrability` at its defaults (2 primes × 2 lines, 30
+//       steps or the degree cap); items_per_second = F_p(t) steps/s
 //   heights/<map>  40 steps over Q (or to 2^20 bits)
 //   build/bench/integrability_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
@@ -59,7 +59,8 @@ void degrees(benchmark::State& state, const std::string& name) {
   const exact::ExactMap& m = the_map(name);
   double steps = 0;
   for (auto _ : state) {
-    const auto t = exact::degree_test(m, exact::resolved({}, m).degree_primes, 2, 30, 100000, 1);
+    const auto o = exact::resolved({}, m);
+    const auto t = exact::degree_test(m, o.degree_primes, o.lines, o.steps, o.degree_cap, 1);
     for (const auto& r : t.runs) steps += static_cast<double>(r.degrees.size() - 1);
   }
   state.SetItemsProcessed(static_cast<std::int64_t>(steps));

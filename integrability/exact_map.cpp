@@ -29,7 +29,7 @@ template <class Map>
 ExactMap built_in(const ParamValues& given) {
   ExactMap m;
   m.name = std::string(Map::name);
-  m.evaluated_by = "its kernel (kernels/" + std::string(Map::name) + ", a template over the value type)";
+  m.evaluated_by = "its kernel, the template over the value type that every path runs";
   const auto values = resolve_params(Map::name, Map::params, given);
   const auto c = std::make_shared<const typename Map::Coeffs>(Map::coefficients(values));
   for (std::size_t k = 0; k < 4; ++k) m.state_names[k] = std::string(Map::state_names[k]);

@@ -21,7 +21,7 @@ struct IntegrabilityOptions {
   std::vector<std::uint64_t> degree_primes;  // empty: two primes near 2^61
   int lines = 2;
   int steps = 30;
-  long degree_cap = 100000;
+  long degree_cap = 20000;
   // finite fields
   std::vector<std::uint64_t> field_primes;  // empty: three primes, by the map's dimension
   std::size_t orbits = 1000;  // where fewer than half come back, up to 20 times as many
