@@ -168,27 +168,27 @@ FunctionOfT FunctionOfT::combine(const FunctionOfT& a, const FunctionOfT& b, boo
   return r;
 }
 
-FunctionOfT operator*(const FunctionOfT& a, const FunctionOfT& b) {
+// (n1 n2)/(d1 d2), reduced: the product and, crosswise, the quotient.
+FunctionOfT FunctionOfT::product(const nmod_poly_t n1, const nmod_poly_t n2, const nmod_poly_t d1,
+                                 const nmod_poly_t d2) {
+  const long cap = PrimeField::degree_cap();
+  if (nmod_poly_degree(n1) + nmod_poly_degree(n2) > cap ||
+      nmod_poly_degree(d1) + nmod_poly_degree(d2) > cap)
+    throw DegreeCap(cap);
   FunctionOfT r;
-  if (nmod_poly_degree(a.num_) + nmod_poly_degree(b.num_) > PrimeField::degree_cap() ||
-      nmod_poly_degree(a.den_) + nmod_poly_degree(b.den_) > PrimeField::degree_cap())
-    throw DegreeCap(PrimeField::degree_cap());
-  nmod_poly_mul(r.num_, a.num_, b.num_);
-  nmod_poly_mul(r.den_, a.den_, b.den_);
+  nmod_poly_mul(r.num_, n1, n2);
+  nmod_poly_mul(r.den_, d1, d2);
   r.normalize();
   return r;
 }
 
+FunctionOfT operator*(const FunctionOfT& a, const FunctionOfT& b) {
+  return FunctionOfT::product(a.num_, b.num_, a.den_, b.den_);
+}
+
 FunctionOfT operator/(const FunctionOfT& a, const FunctionOfT& b) {
   if (b.is_zero()) throw DivisionByZero();
-  FunctionOfT r;
-  if (nmod_poly_degree(a.num_) + nmod_poly_degree(b.den_) > PrimeField::degree_cap() ||
-      nmod_poly_degree(a.den_) + nmod_poly_degree(b.num_) > PrimeField::degree_cap())
-    throw DegreeCap(PrimeField::degree_cap());
-  nmod_poly_mul(r.num_, a.num_, b.den_);
-  nmod_poly_mul(r.den_, a.den_, b.num_);
-  r.normalize();
-  return r;
+  return FunctionOfT::product(a.num_, b.den_, a.den_, b.num_);
 }
 
 bool operator==(const FunctionOfT& a, const FunctionOfT& b) {

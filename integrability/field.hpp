@@ -93,6 +93,8 @@ class FunctionOfT {
 
  private:
   static FunctionOfT combine(const FunctionOfT& a, const FunctionOfT& b, bool subtract);
+  static FunctionOfT product(const nmod_poly_t n1, const nmod_poly_t n2, const nmod_poly_t d1,
+                             const nmod_poly_t d2);
   void normalize();  // gcd out, denominator monic, degrees capped
   nmod_poly_t num_, den_;
 };
