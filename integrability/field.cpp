@@ -197,6 +197,27 @@ bool operator==(const FunctionOfT& a, const FunctionOfT& b) {
 
 // ---- Q --------------------------------------------------------------------------------------
 
+namespace {
+thread_local const HeightLimit* height_limit = nullptr;
+thread_local double height_bits = 0;
+
+double bits(const mpq_class& q) {
+  return static_cast<double>(mpz_sizeinbase(q.get_num_mpz_t(), 2) + mpz_sizeinbase(q.get_den_mpz_t(), 2));
+}
+}  // namespace
+
+HeightLimit::HeightLimit(double bits) : outer_bits_(height_bits), outer_(height_limit) {
+  height_limit = this;
+  height_bits = bits;
+}
+HeightLimit::~HeightLimit() {
+  height_limit = outer_;
+  height_bits = outer_bits_;
+}
+void HeightLimit::check(const mpq_class& a, const mpq_class& b) {
+  if (height_limit && bits(a) + bits(b) > height_bits) throw HeightCap(height_bits);
+}
+
 double Rational::log_height() const {
   const auto log_abs = [](const mpz_class& z) {
     if (sgn(z) == 0) return 0.0;

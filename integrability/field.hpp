@@ -29,6 +29,11 @@ struct DegreeCap : std::length_error {
   explicit DegreeCap(long cap)
       : std::length_error("a degree beyond the cap of " + std::to_string(cap)) {}
 };
+struct HeightCap : std::length_error {
+  explicit HeightCap(double bits)
+      : std::length_error("a rational beyond the cap of " + std::to_string(static_cast<long>(bits)) +
+                          " bits") {}
+};
 
 // The rational that the shortest decimal printing `x` exactly denotes (x finite).
 mpq_class decimal_value(double x);
@@ -99,16 +104,42 @@ class FunctionOfT {
   nmod_poly_t num_, den_;
 };
 
+// The thread's cap on the size of Rational's operands while in scope (scopes nest): an operation
+// whose operands' numerators and denominators have more bits together raises HeightCap, before
+// GMP is asked for the memory.
+class HeightLimit {
+ public:
+  explicit HeightLimit(double bits);
+  ~HeightLimit();
+  HeightLimit(const HeightLimit&) = delete;
+  HeightLimit& operator=(const HeightLimit&) = delete;
+  static void check(const mpq_class& a, const mpq_class& b);
+
+ private:
+  double outer_bits_;
+  const HeightLimit* outer_;
+};
+
 struct Rational {
   mpq_class v;
   Rational() = default;
   explicit Rational(double x) : v(decimal_value(x)) {}
   explicit Rational(mpq_class q) : v(std::move(q)) {}
-  friend Rational operator+(const Rational& a, const Rational& b) { return Rational(mpq_class(a.v + b.v)); }
-  friend Rational operator-(const Rational& a, const Rational& b) { return Rational(mpq_class(a.v - b.v)); }
-  friend Rational operator*(const Rational& a, const Rational& b) { return Rational(mpq_class(a.v * b.v)); }
+  friend Rational operator+(const Rational& a, const Rational& b) {
+    HeightLimit::check(a.v, b.v);
+    return Rational(mpq_class(a.v + b.v));
+  }
+  friend Rational operator-(const Rational& a, const Rational& b) {
+    HeightLimit::check(a.v, b.v);
+    return Rational(mpq_class(a.v - b.v));
+  }
+  friend Rational operator*(const Rational& a, const Rational& b) {
+    HeightLimit::check(a.v, b.v);
+    return Rational(mpq_class(a.v * b.v));
+  }
   friend Rational operator/(const Rational& a, const Rational& b) {
     if (sgn(b.v) == 0) throw DivisionByZero();
+    HeightLimit::check(a.v, b.v);
     return Rational(mpq_class(a.v / b.v));
   }
   friend bool operator==(const Rational& a, const Rational& b) { return a.v == b.v; }

@@ -25,11 +25,17 @@ HeightTest height_test(const ExactMap& map, int steps, double max_bits, std::uin
   };
   t.log_heights.push_back(height());
   const double max_log = max_bits * std::log(2.0);
+  // Within a step, no operand beyond 8 times the cap (a step of degree d multiplies heights by d).
+  const HeightLimit limit(8 * max_bits);
   for (int n = 1; n <= steps; ++n) {
     try {
       map.step(s);
     } catch (const DivisionByZero&) {
       t.stopped = "a denominator vanished at step " + std::to_string(n);
+      break;
+    } catch (const HeightCap&) {
+      t.stopped = "the height cap (" + std::to_string(static_cast<long>(max_bits)) +
+                  " bits, 8 times that within a step) at step " + std::to_string(n);
       break;
     }
     t.log_heights.push_back(height());

@@ -201,5 +201,17 @@ TEST(Integrability, BadOptionsAreExitTwoNamingTheOption) {
   }
 }
 
+TEST(Integrability, AMapWhoseHeightsExplodeStopsAtTheCaps) {
+  // x^(64^5) in one step: degrees past any cap, heights of 10^9 bits and more; stopped, not a crash.
+  const testing::TempDir dir;
+  testing::write_text(dir / "tower.toml", "[map]\nname = \"tower\"\nform = \"phase\"\n"
+                      "step = \"q1 = ((((p1^64)^64)^64)^64)^64 + q1; p1 = p1 + q1\"\n");
+  const auto r = testing::run({"integrability", "--map", dir / "tower.toml", "--field-primes", "101",
+                               "--orbits", "20", "--steps", "3", "--height-steps", "3"}, dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(Contains(r.out, "stopped by the degree cap (20000) at step 1"));
+  EXPECT_TRUE(Contains(r.out, "stopped by the height cap"));
+}
+
 }  // namespace
 }  // namespace qmaps
