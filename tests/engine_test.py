@@ -226,8 +226,9 @@ def test_progress_bar_and_a_failing_callback(configs, tmp_path, capfd):
 INTERRUPTED = """
 import os, signal, sys, threading, qmaps
 config, folder, how = sys.argv[1], sys.argv[2], sys.argv[3]
-if how == "signal":  # Ctrl-C from outside, while it steps
-    threading.Timer(1.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
+if how == "signal":  # Ctrl-C from outside, while it steps (the run lasts far longer than 5 s;
+    # under load, importing and drawing 200000 orbits have taken more than 1 s)
+    threading.Timer(5.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
 try:
     qmaps.run(config, ensemble={"orbits": 200000}, run={"steps": 100000}, threads=1,
               tmpdir=folder)
