@@ -49,12 +49,7 @@ std::unique_ptr<Model> map_of(const Config& config, const std::optional<ChaosOpt
   const bool formulas = is_formula_map(config);
   const auto definition = formulas ? definition_of(config) : nullptr;
   const std::string name = config.string("map", "name");
-  ParamValues params;
-  for (const auto& key : config.keys("map"))
-    if (std::find(formula::map_keys.begin(), formula::map_keys.end(), key) ==
-            formula::map_keys.end() ||
-        (!formulas && key != "name"))
-      params[key] = config.number("map", key);
+  const ParamValues params = map_params(config);
   try {
     if (formulas) return chaos ? make_model(definition, params, *chaos) : make_model(definition, params);
     return chaos ? make_model(name, params, *chaos) : make_model(name, params);
@@ -65,17 +60,35 @@ std::unique_ptr<Model> map_of(const Config& config, const std::optional<ChaosOpt
   }
 }
 
-std::unique_ptr<Model> map_named(const std::string& map, const ParamValues& params,
-                                 const std::optional<ChaosOptions>& chaos) {
-  if (map.size() < 5 || map.compare(map.size() - 5, 5, ".toml") != 0)
-    return chaos ? make_model(map, params, *chaos) : make_model(map, params);
+ParamValues map_params(const Config& config) {
+  const bool formulas = is_formula_map(config);
+  ParamValues params;
+  for (const auto& key : config.keys("map"))
+    if (std::find(formula::map_keys.begin(), formula::map_keys.end(), key) ==
+            formula::map_keys.end() ||
+        (!formulas && key != "name"))
+      params[key] = config.number("map", key);
+  return params;
+}
+
+bool names_file(const std::string& map) {
+  return map.size() >= 5 && map.compare(map.size() - 5, 5, ".toml") == 0;
+}
+
+Config formula_map_file(const std::string& map, const ParamValues& params) {
   Config config = Config::load(map);
   if (!is_formula_map(config))
     throw usage_error(config.where("map") + ": --map " + map +
                       ": the file's [map] is not written as formulas (it has no form); name a "
                       "built-in map by its name");
   for (const auto& [name, value] : params) config.set("map." + name + "=" + number_text(value));
-  return map_of(config, chaos);
+  return config;
+}
+
+std::unique_ptr<Model> map_named(const std::string& map, const ParamValues& params,
+                                 const std::optional<ChaosOptions>& chaos) {
+  if (!names_file(map)) return chaos ? make_model(map, params, *chaos) : make_model(map, params);
+  return map_of(formula_map_file(map, params), chaos);
 }
 
 }  // namespace qmaps

@@ -27,6 +27,14 @@ std::shared_ptr<const formula::Definition> definition_of(const Config& config);
 std::unique_ptr<Model> map_of(const Config& config,
                               const std::optional<ChaosOptions>& chaos = std::nullopt);
 
+// [map]'s parameter values: every key but the formula keys (of a built-in map: but its name).
+ParamValues map_params(const Config& config);
+// Whether `--map` names a file (*.toml) rather than a built-in map.
+bool names_file(const std::string& map);
+// The configuration of the file `--map` names, whose [map] must be written as formulas, with
+// `params` set in its [map].
+Config formula_map_file(const std::string& map, const ParamValues& params);
+
 // The model `--map` names: a built-in map's name, or a configuration file (*.toml) whose [map]
 // is written as formulas; `params` replace its values.
 std::unique_ptr<Model> map_named(const std::string& map, const ParamValues& params,

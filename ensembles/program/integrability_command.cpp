@@ -1,7 +1,6 @@
 // `qmaps integrability --map MAP`: whether a rational map is integrable, by three exact tests
 // (integrability/verdict.hpp, docs/integrability.md), as text and, with --output, an HDF5 file
 // (the schema in docs/integrability.md), written atomically under the output's lock.
-#include <algorithm>
 #include <ostream>
 
 #include "core/error.hpp"
@@ -15,20 +14,11 @@
 namespace qmaps {
 
 exact::ExactMap exact_map_named(const std::string& map, const ParamValues& params) {
-  if (map.size() < 5 || map.compare(map.size() - 5, 5, ".toml") != 0)
-    return exact::exact_map(map, params);
-  Config config = Config::load(map);
-  if (!is_formula_map(config))
-    throw usage_error(config.where("map") + ": --map " + map +
-                      ": the file's [map] is not written as formulas (it has no form); name a "
-                      "built-in map by its name");
+  if (!names_file(map)) return exact::exact_map(map, params);
+  const Config config = formula_map_file(map, params);
   const auto definition = definition_of(config);
-  ParamValues given;
-  for (const auto& key : config.keys("map"))
-    if (std::find(formula::map_keys.begin(), formula::map_keys.end(), key) == formula::map_keys.end())
-      given[key] = config.number("map", key);
-  for (const auto& [name, value] : params) given[name] = value;
-  const auto values = resolve_params(definition->text().name, definition->params(), given);
+  const auto values =
+      resolve_params(definition->text().name, definition->params(), map_params(config));
   try {
     return exact::exact_map(definition, values);
   } catch (const formula::DefinitionError& e) {
