@@ -68,6 +68,13 @@ Isa best_isa() {
   return best;
 }
 
+std::optional<Isa> missing_wider_isa() {
+  std::optional<Isa> wider;
+  for (Isa isa : all_isas())
+    if (isa > best_isa() && cpu_supports(isa)) wider = isa;
+  return wider;
+}
+
 std::vector<Isa> runnable_isas() {
   std::vector<Isa> out;
   for (Isa isa : compiled_isas())

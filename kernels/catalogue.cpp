@@ -5,9 +5,7 @@
 #include <string>
 
 #include "core/error.hpp"
-#include "core/model_of.hpp"
-#include "core/tangent_map.hpp"
-#include "kernels/maps.hpp"
+#include "core/model_units.hpp"  // the models, each compiled in its own unit
 
 namespace qmaps {
 namespace {

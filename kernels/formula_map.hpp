@@ -94,8 +94,10 @@ struct Formula {
   // (core/block.hpp), with the state resident in the registers where the step allows
   // (Lowered::resident): escape gets each step's escape measures, summed chain by chain before
   // it; returns the sum of the fault codes.
+  // Out of line: one copy per chain count, however many loops call it (inlined into each, the
+  // interpreter's every kind was compiled once per call site).
   template <class V, int K>
-  static V step_chains(const Coeffs& c, State<V> (&s)[K], long long steps, V& escape) {
+  [[gnu::noinline]] static V step_chains(const Coeffs& c, State<V> (&s)[K], long long steps, V& escape) {
     const formula::Lowered& m = *c.program;
     const formula::Rotation& rotation = m.resident;
     const bool resident = !rotation.programs.empty();

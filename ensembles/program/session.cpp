@@ -59,7 +59,12 @@ std::string summary_line(const Run& first, std::size_t points, std::size_t orbit
                 rate, std::string(isa_name(x.isa)).c_str(), workers.c_str(), escaped,
                 first.rejects_points ? (", " + std::to_string(rejected) + " rejected").c_str() : "",
                 first.path.c_str());
-  return line;
+  std::string out = line;
+  if (const auto wider = missing_wider_isa(); wider && x.isa == best_isa())
+    out += "qmaps: this CPU has " + std::string(isa_name(*wider)) +
+           ", which this binary was built without: it ran " + std::string(isa_name(x.isa)) +
+           " (bash tools/setup on this machine builds it)\n";
+  return out;
 }
 
 }  // namespace qmaps
