@@ -15,7 +15,7 @@ namespace qmaps {
 struct BenchMap {
   std::string map;
   ParamValues params;
-  bool slow;  // solves an equation per step (case3) or evaluates many forces (flow at order 8)
+  bool slow;  // solves an equation per step (case3) or evaluates many forces (flow: 7 at order 6)
   int forces_per_step;  // MapFacts': 0 where the map is not a splitting
   double speed_budget;  // MapFacts': its least rate against Suris'; 0: none
   long long steps() const { return slow ? bench_size().slow_steps : bench_size().steps; }

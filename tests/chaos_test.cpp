@@ -47,7 +47,7 @@ Indicators after(std::string_view map, const ParamValues& params, const Phase& x
 }
 
 const ParamValues chaotic_flow = {{"A", 0.0}, {"B", 0.0}, {"alpha", 0.25}, {"beta", 0.25},
-                                  {"delta", 3.0}, {"h", 0.05}};
+                                  {"delta", 3.0}, {"h", 0.05}, {"order", 8}};
 
 // Margins of the integrable maps' indicators at 10⁵ steps. ⟨Y⟩ approaches 2 as 2 − O(ln n/n)
 // (measured 1.983 for Suris); λ_n ≤ ln(n)/n (measured 0.65 ln(n)/n).

@@ -21,6 +21,7 @@ Phase exact(const ParamValues& flow_params, double T) {
   const long long steps = std::max(1LL, std::llround(T * 1024));
   ParamValues p = flow_params;
   p["h"] = T / static_cast<double>(steps);
+  p["order"] = 8;
   const auto flow = make_model("flow", p);
   Ensemble e = flow->start(std::span(&start_point, 1), Start::taylor, 1e8);
   RunPlan plan;

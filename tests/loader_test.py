@@ -1,7 +1,8 @@
 """qmaps.load (python/qmaps/runfile.py): every object docs/hdf5-schema.md lists comes back under its name, datasets
 with the file's values, dtype and shape, attributes as str, int or float by their documented type;
 skipped datasets are not read; unreadable files are clear errors. The Python examples of the README,
-docs/python.md and docs/hdf5-schema.md run as written on a run named suris.h5."""
+docs/getting-started.md, docs/python.md and docs/hdf5-schema.md run as written on a run named
+suris.h5."""
 import os
 import re
 import subprocess
@@ -202,8 +203,8 @@ class DocumentedExamples(unittest.TestCase):
         """Every python block of the pages runs as written. A build without the Python module
         (QMAPS_PYTHON_ENGINE=0: the sanitized one) runs only the blocks that need no engine."""
         engine = os.environ.get("QMAPS_PYTHON_ENGINE", "1") == "1"
-        pages = [small_run.SOURCE_DIR / p for p in ("README.md", "docs/python.md",
-                                                     "docs/hdf5-schema.md")]
+        pages = [small_run.SOURCE_DIR / p for p in ("README.md", "docs/getting-started.md",
+                                                     "docs/python.md", "docs/hdf5-schema.md")]
         with tempfile.TemporaryDirectory() as tmp:
             small_run.small_run(tmp, orbits=200, steps=50, name="suris.h5")
             ran = left = 0

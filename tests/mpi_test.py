@@ -4,8 +4,8 @@ divides, with every kind of observer, trajectories across ranks and escaping orb
 single process's run, dataset for dataset and byte for byte, and records its ranks, threads and
 hosts; so does a gzip-compressed run and one without per-orbit datasets; a run interrupted under
 2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file,
-as does one stopped by SIGTERM sent to mpirun (20 times on a loaded machine, each stop resumed by
-the next);
+as does one stopped by SIGTERM or SIGINT sent to mpirun (20 times on a loaded machine, each stop
+resumed by the next), which rank 0 names as mpirun's SIGTERM;
 a bad configuration or an unwritable output given to the last rank alone, or ranks given
 different configurations, end every rank with the message and nothing written; --shard is refused
 over several ranks. Skipped where qmaps-mpi (beside the qmaps binary) or mpirun is missing."""
@@ -34,7 +34,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
 TIMEOUT = 300  # seconds, per process
 INTERRUPT = {"QMAPS_SIGNAL_AT_STEP": "60:INT"}
-SIGNALS = 20  # SIGTERMs sent to mpirun, each to a run resumed from the previous one's checkpoint
+SIGNALS = 20  # SIGTERMs and SIGINTs to mpirun, each to a run resumed from the last checkpoint
 TRAJECTORIES = small_run.fixture("trajectory-across.toml")
 
 
@@ -176,12 +176,14 @@ class Mpi(unittest.TestCase):
                         self.assertEqual(f.attrs["ranks"], then)
 
     def test_a_signal_to_mpirun_checkpoints_every_rank(self):
-        """SIGTERM sent to mpirun itself, as a batch system ends a job: mpirun passes it on to the
-        ranks 1 s later and SIGKILLs them 1 s after that. Sent SIGNALS times, at random times, to
-        a run on a machine loaded by a busy process per core, each time resuming the previous
-        checkpoint: every time, the ranks stop within their grace and write one checkpoint
-        further on. mpirun's own status is then OpenMPI's (not 0; the ranks exit with 5). The
-        last checkpoint equals the one the run never stopped writes at the same step."""
+        """SIGTERM sent to mpirun itself, as a batch system ends a job, or SIGINT (Ctrl-C): mpirun
+        sends the ranks SIGTERM for either 1 s later and SIGKILLs them 1 s after that, and rank 0
+        names the SIGTERM as mpirun's, not the signal mpirun had. Sent SIGNALS times, alternately,
+        at random times, to a run on a machine loaded by a busy process per core, each time
+        resuming the previous checkpoint: every time, the ranks stop within their grace and write
+        one checkpoint further on. mpirun's own status is then OpenMPI's (not 0; the ranks exit
+        with 5). The last checkpoint equals the one the run never stopped writes at the same
+        step."""
         d = self.fresh()
         (d / "p.toml").write_text(small_run.PRESET.read_text())
         run = [BINARY, "run", "p.toml", "--set", "ensemble.orbits=2000", "--set",
@@ -205,15 +207,18 @@ class Mpi(unittest.TestCase):
                             break
                         time.sleep(0.1)
                     time.sleep(delay)
-                    p.send_signal(signal.SIGTERM)
+                    sent = (signal.SIGTERM, signal.SIGINT)[trial % 2]
+                    p.send_signal(sent)
                     _, err = p.communicate(timeout=TIMEOUT)
-                with self.subTest(trial=trial, delay=delay):
+                with self.subTest(trial=trial, delay=delay, signal=sent.name):
                     self.assertNotEqual(p.returncode, 0, err)
                     # The checkpoint is the proof. Rank 0's line about it reaches mpirun's
                     # stderr only while mpirun still forwards the ranks' output, which OpenMPI
                     # does not promise once it is ending the job: where mpirun said anything,
                     # it says that.
                     if err:
+                        self.assertIn("qmaps: SIGTERM from mpirun (which sends it for a SIGINT or a "
+                                      "SIGTERM) at step ", err)
                         self.assertIn("checkpoint written to out.h5.ckpt", err)
                     self.assert_nothing_written(d, "out.h5")
                     with h5py.File(d / "out.h5.ckpt") as f:

@@ -1,9 +1,11 @@
-// The README never lies: every command of its sh blocks runs as written (from a scratch folder,
-// with build/, ensembles/ and tools/ pointing into this tree) and exits 0. The set-up prefix is what
+// The README and docs/getting-started.md never lie: every command of their sh blocks runs as
+// written (from a scratch folder, with build/, ensembles/ and tools/ pointing into this tree) and
+// exits 0, each distinct command once. The set-up (`bash tools/setup`, alone or as a prefix) is what
 // built this test; the test and benchmark commands are left to CI and to bench/.
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -12,8 +14,9 @@
 namespace qmaps::testing {
 namespace {
 
-std::vector<std::string> readme_commands() {
-  std::ifstream in(std::string(QMAPS_SOURCE_DIR) + "/README.md");
+// The lines of the sh blocks of the page `page` (a path relative to the source tree).
+std::vector<std::string> sh_commands(const std::string& page) {
+  std::ifstream in(std::string(QMAPS_SOURCE_DIR) + "/" + page);
   std::vector<std::string> out;
   bool in_sh = false;
   for (std::string line; std::getline(in, line);) {
@@ -37,20 +40,26 @@ std::string replace_all(const std::string& text, const std::string& from, const 
 }
 
 TEST(Readme, EveryExampleCommandRunsAsWritten) {
-  const auto commands = readme_commands();
-  ASSERT_GE(commands.size(), 5u) << "the README's sh blocks were not found";
+  auto commands = sh_commands("README.md");
+  ASSERT_GE(commands.size(), 3u) << "the README's sh blocks were not found";
   const std::string setup = "bash tools/setup && ";
   EXPECT_EQ(commands[0].rfind(setup + "build/qmaps run ", 0), 0u) << commands[0];
   EXPECT_EQ(commands[1], "bash tools/setup --all && ctest --test-dir build --output-on-failure -j2");
+  const auto tutorial = sh_commands("docs/getting-started.md");
+  ASSERT_GE(tutorial.size(), 5u) << "docs/getting-started.md's sh blocks were not found";
+  commands.insert(commands.end(), tutorial.begin(), tutorial.end());
+  std::set<std::string> done;
   int ran = 0;
   for (std::string command : commands) {
     if (command.rfind(setup, 0) == 0) command = command.substr(setup.size());
     if (command.rfind("bash tools/setup --all && ", 0) == 0) continue;  // the test suite itself
+    if (command == "bash tools/setup" || command == "bash tools/setup --mpi") continue;
+    if (!done.insert(command).second) continue;  // run once already
     if (command.rfind("ctest ", 0) == 0 || command.rfind("build/bench/", 0) == 0 ||
         command.rfind("bench/report", 0) == 0)
       continue;
     ASSERT_TRUE(command.rfind("build/qmaps ", 0) == 0 || command.rfind("tools/qmaps-plot ", 0) == 0)
-        << "unexpected README command: " << command;
+        << "unexpected command in the README or docs/getting-started.md: " << command;
     TempDir dir;
     const std::string binary = std::string(QMAPS_BINARY) + " ";
     const std::string presets = std::string(" ") + QMAPS_SOURCE_DIR + "/ensembles/";
@@ -65,7 +74,7 @@ TEST(Readme, EveryExampleCommandRunsAsWritten) {
     EXPECT_EQ(status, 0) << command << "\n" << read_text(dir / "err.txt");
     ++ran;
   }
-  EXPECT_GE(ran, 4);
+  EXPECT_GE(ran, 10);
 }
 
 }  // namespace

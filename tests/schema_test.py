@@ -1,6 +1,9 @@
 """docs/hdf5-schema.md and the writer agree: on a run with every kind of observer, every group,
 dataset and attribute in the file is documented with its type and shape, and every documented one
-is there (a name with a placeholder, at least once)."""
+is there (a name with a placeholder, at least once). The page names suris' invariants as a run
+writes them, for A != B and A = B, and gives I1 as docs/maps.md does."""
+import pathlib
+import re
 import sys
 import tempfile
 import unittest
@@ -98,6 +101,30 @@ class SchemaMatchesWriter(unittest.TestCase):
             with self.subTest(entry=entry):
                 self.assertTrue((entry.group, entry) in written,
                                 f"{entry.kind} {entry.name} of {entry.group} is not in the file")
+
+    def test_the_page_names_suris_invariants_for_both_cases(self):
+        # "For `suris` these are `H`, `I1` and `I2`, but `H` and `L` when `A = B`."
+        sentence = re.search(r"For `suris` these are (.*?),\s+but\s+(.*?)\s+when `A = B`",
+                             DOC.read_text(), re.S)
+        self.assertIsNotNone(sentence)
+        documented = [set(re.findall(r"`(\w+)`", part)) for part in sentence.groups()]
+        directory = pathlib.Path(self.tmp.name)
+        for b, expected in (("0.3", documented[0]), ("0.7", documented[1])):
+            out = directory / f"suris-B{b}.h5"
+            run = small_run.qmaps(directory, "run", small_run.PRESET, "--set", "map.A=0.7",
+                                  "--set", f"map.B={b}", "--set", "ensemble.orbits=10",
+                                  "--set", "run.steps=10", "--set", "invariant_image.y=H",
+                                  "--out", out, "--quiet")
+            self.assertEqual(run.returncode, 0, run.stderr)
+            with h5py.File(out, "r") as f:
+                self.assertEqual(set(f["invariants"]) - {"image"}, expected, f"B = {b}")
+
+    def test_the_page_gives_suris_I1_as_docs_maps_does(self):
+        page = re.search(r"`I1 = (.*?)`", DOC.read_text(), re.S).group(1)
+        maps_page = (DOC.parent / "maps.md").read_text()
+        maps = re.search(r"^\| `I1` \| (.*?) \|", maps_page, re.M).group(1)
+        squeeze = lambda formula: re.sub(r"\s+", "", formula)
+        self.assertEqual(squeeze(page), squeeze(maps))
 
 
 if __name__ == "__main__":

@@ -12,7 +12,7 @@ configuration without [tunes], run for 0 steps, leaves it in /final/state (q1_n,
 also be the start rule applied to /initial (tune_references.suris_start).
 
 The orbits are `line` ensembles ([ensemble] kind = "line", from = [q1, q2, p1, p2], to = [...],
-orbits; the other kinds are box, grid, shell and file, README.md). The references' own
+orbits; the other kinds are box, grid, shell and file, docs/cli.md). The references' own
 validation (tune_references.SelfTest: direct iteration, elliptic integrals) runs here too.
 
 Run as /usr/bin/python3 -B tests/tunes_test.py, with QMAPS_BINARY and QMAPS_SOURCE_DIR as CMake

@@ -1,6 +1,7 @@
 #pragma once
 // The observers of a run from its configuration: [[histogram]], [[section]], [invariant_image]
-// and [[trajectory]] (docs/configuration in README.md); every error names the key and its line.
+// and [[trajectory]] (docs/cli.md; annotated in docs/getting-started.md); every error names the
+// key and its line.
 #include <optional>
 #include <string>
 

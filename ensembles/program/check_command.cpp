@@ -1,7 +1,8 @@
-// `qmaps check --map NAME` (or a formula map's FILE.toml): a quick integrability report. A random box of orbits runs `steps`
-// steps; for each invariant, percentiles of the orbits' max relative drift; then reversibility:
-// the ensemble is reversed, runs the same steps back and is reversed again, and the largest
-// difference of its phase points from the start is the reversibility error.
+// `qmaps check --map NAME` (or a formula map's FILE.toml): invariant drift and reversibility over a
+// random box, not a test of integrability. A random box of orbits runs `steps` steps; for each
+// invariant the map has at its parameters, percentiles of the orbits' max relative drift; then
+// reversibility: the ensemble is reversed, runs the same steps back and is reversed again, and the
+// largest difference of its phase points from the start is the reversibility error.
 #include <omp.h>
 
 #include <algorithm>
@@ -92,12 +93,17 @@ int check_command(const CheckOptions& o, std::ostream& out) {
           << number_text(model->param_values()[k]);
   out << "): " << o.orbits << " orbits uniform in [-" << number_text(q) << ", " << number_text(q)
       << "]^4 (seed " << o.seed << "), " << o.steps << " steps, " << e.escaped() << " escaped\n";
+  const auto& names = model->invariant_names();
+  out << "invariants checked:";
+  for (std::size_t k = 0; k < names.size(); ++k) out << (k ? ", " : " ") << names[k];
+  out << (names.empty() ? " none" : "")
+      << " (those the map has at these parameters; whether it is integrable is qmaps "
+         "integrability's question)\n";
 
   std::vector<std::uint8_t> alive(e.orbits);
   for (std::size_t i = 0; i < e.orbits; ++i) alive[i] = e.escape_step[i] < 0;
   out << "relative drift max|I_n - I_0|/|I_0| over the orbits never escaped:\n";
   out << "  invariant     median        90%        99%      worst\n";
-  const auto& names = model->invariant_names();
   for (std::size_t k = 0; k < names.size(); ++k) {
     const DriftSummary s(invariant_initial(e, k).span().first(e.orbits),
                          invariant_drift(e, k).span().first(e.orbits), alive);

@@ -1,5 +1,8 @@
 #include "ensembles/program/interrupt.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
 #include <csignal>
 #include <cstdlib>
 #include <mutex>
@@ -11,11 +14,13 @@ namespace qmaps {
 namespace {
 
 volatile std::sig_atomic_t received = 0;
+volatile std::sig_atomic_t from_parent = 0;  // the first signal was sent by this process's parent
 
 // The first signal asks the run to stop; a second one, of any of the three, ends the process
 // at once with that signal's default action.
-extern "C" void on_signal(int sig) {
+extern "C" void on_signal(int sig, siginfo_t* info, void*) {
   if (received == 0) {
+    from_parent = info != nullptr && info->si_code == SI_USER && info->si_pid == getppid();
     received = sig;
     return;
   }
@@ -38,8 +43,10 @@ InterruptGuard::InterruptGuard() {
   const std::lock_guard lock(guarding);
   if (guards++ > 0) return;
   received = 0;
+  from_parent = 0;
   struct sigaction action {};
-  action.sa_handler = on_signal;
+  action.sa_sigaction = on_signal;
+  action.sa_flags = SA_SIGINFO;
   sigemptyset(&action.sa_mask);
   for (int k = 0; k < 3; ++k) sigaction(signals[k], &action, &previous[k]);
 }
@@ -52,6 +59,13 @@ InterruptGuard::~InterruptGuard() {
 
 bool InterruptGuard::requested() const { return received != 0; }
 int InterruptGuard::signal() const { return received; }
+
+std::string InterruptGuard::named(int sig) const {
+  const bool from_mpirun = sig == SIGTERM && received == SIGTERM && from_parent != 0 &&
+                           std::getenv("OMPI_COMM_WORLD_SIZE") != nullptr;
+  return from_mpirun ? "SIGTERM from mpirun (which sends it for a SIGINT or a SIGTERM)"
+                     : signal_name(sig);
+}
 
 const char* signal_name(int sig) {
   return sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "a signal";

@@ -18,6 +18,10 @@ class InterruptGuard {
   InterruptGuard& operator=(const InterruptGuard&) = delete;
   bool requested() const;  // a signal arrived since construction
   int signal() const;      // which one (0: none)
+  // `sig` as a message names it: signal_name(sig), except a SIGTERM that this process, started by
+  // mpirun, had from its parent (mpirun, or its daemon on another node). mpirun sends every rank
+  // SIGTERM for a SIGINT and a SIGTERM alike, so the message says that it came from mpirun.
+  std::string named(int sig) const;
 };
 
 const char* signal_name(int sig);  // "SIGINT", "SIGTERM", "SIGHUP"

@@ -107,7 +107,10 @@ int main(int argc, char** argv) {
                         "put the initial condition on H = E: p2 solved from the continuous H, "
                         "with the sign --ic gives it");
   orbit_cmd->add_flag("--chaos", orbit.chaos,
-                      "also columns lyapunov, fli, megno from the tangent map (docs/chaos.md)");
+                      "also columns lyapunov, fli, megno, lyapunov_1 to lyapunov_4, gali_2, "
+                      "gali_4: the orbit's chaos indicators so far, from the tangent map, the "
+                      "spectrum orthonormalized every 10 steps (nan at n = 0 for the exponents "
+                      "and megno; docs/chaos.md)");
   orbit_cmd->add_option("--tunes", orbit.tunes,
                         "also the orbit's tunes over steps 1..N and N+1..2N and its diffusion, on "
                         "stderr (N a power of two, 32 to 2^20; docs/tunes.md)");

@@ -114,13 +114,13 @@ int execute(Run& r, Ensemble& e, h5::AtomicFile& output, h5::File& file,
     // ranks) leaves none behind.
     output.discard();
     if (!session.checkpoint_on_interrupt) {
-      log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of "
+      log << "qmaps: " << interrupt.named(signal) << " at step " << e.step << " of "
           << r.plan.total << ": stopped, nothing written\n";
       return static_cast<int>(ExitCode::interrupted);
     }
     save();
     if (ranks::root())
-      log << "qmaps: " << signal_name(signal) << " at step " << e.step << " of " << r.plan.total
+      log << "qmaps: " << interrupt.named(signal) << " at step " << e.step << " of " << r.plan.total
           << ": checkpoint written to " << checkpoint
           << "; continue with: qmaps run --resume " << checkpoint << '\n';
     return static_cast<int>(ExitCode::interrupted);

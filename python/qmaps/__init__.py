@@ -13,7 +13,8 @@ Hamiltonian, in process (docs/python.md).
     run = qmaps.run({"map": kick, ...})       # a map written as formulas (docs/formulas.md)
     qmaps.integrability("suris", {...})       # is it integrable? (docs/integrability.md)
 
-qmaps.plot draws a file's pictures (the qmaps-plot program).
+qmaps.plot draws a file's pictures (the qmaps-plot program); it is imported, with matplotlib, on
+first use.
 """
 from .engine import Spec, maps, orbit, run, spec
 from .errors import ConfigError, Error, FileError, UnsupportedError
@@ -24,3 +25,11 @@ from .runfile import Group, Histogram, Run, load
 __all__ = ["run", "spec", "Spec", "orbit", "maps", "Map", "integrability", "Integrability", "load",
            "Run", "Group", "Histogram", "Error", "ConfigError",
            "FileError", "UnsupportedError"]
+
+
+def __getattr__(name):
+    """qmaps.plot, imported when first used, so that `import qmaps` does not import matplotlib."""
+    if name == "plot":
+        import importlib
+        return importlib.import_module(".plot", __name__)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -168,14 +168,26 @@ def _progress_callback(progress):
 
 
 class Spec:
-    """A run read and checked, not yet run (qmaps.spec): every key of its configuration read once,
-    an unknown one refused with its line, the memory it needs checked. Its fields say what it
-    runs; run() runs it, once.
+    """A run read and checked, not yet run, as ``qmaps.spec`` returns it: every key of its
+    configuration read once (an unknown one refused with its line) and the memory it needs
+    checked. Its attributes say what it runs; ``run()`` runs it, once.
 
-    map, params      the map and its parameters, resolved
-    orbits, steps    its orbits (all the sweep's points') and steps; stride its sampling
-    points           a sweep's points (1 for a run)
-    invariants       the invariants it tracks; measured the optional measurements it takes"""
+    Attributes:
+        map: the map's name.
+        params: the map's parameters, ``{name: value}``, defaults filled in.
+        orbits: its orbits (a sweep's, over all its points).
+        steps: its steps.
+        stride: its sampling stride: every stride-th step is sampled.
+        points: a sweep's points; 1 for a run.
+        invariants: the names of the invariants it tracks (``["H", "I1", "I2"]``).
+        measured: the optional per-orbit measurements it takes.
+
+    Example::
+
+        spec = qmaps.spec("ensembles/presets/suris.toml", ensemble={"orbits": 1000})
+        print(spec.map, spec.orbits, spec.steps, spec.invariants)
+        run = spec.run()
+    """
 
     def __init__(self, engine, handle, folder, label):
         self._engine, self._handle, self._folder, self._label = engine, handle, folder, label
@@ -187,15 +199,26 @@ class Spec:
                 + (f", {self.points} points" if self.points > 1 else "") + ")")
 
     def run(self, *, progress=None):
-        """Runs it as `qmaps run` does and returns the run, opened lazily (a qmaps.Run: per-orbit
-        arrays, histograms, sections and indicators as numpy arrays, the provenance in .attrs,
-        .save(path) to keep the file). A spec runs once.
+        """Runs it as ``qmaps run`` does and returns the run, a ``qmaps.Run`` opened lazily:
+        per-orbit arrays, histograms, sections and indicators as numpy arrays, the provenance in
+        ``.attrs``, and ``.save(path)`` to keep the file. A spec runs once. The GIL is released
+        while the orbits step.
 
-        progress a callable(step, total) called after each segment, or True for a bar (tqdm when
-                 installed)
+        Args:
+            progress: a callable ``progress(step, total)``, called after each segment, or True
+                for a bar (tqdm when installed, else a line on stderr).
 
-        Raises FileError, and KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept).
-        The GIL is released while the orbits step."""
+        Raises:
+            ConfigError: the spec has run already.
+            FileError: the run's file cannot be written.
+            KeyboardInterrupt: a signal (Ctrl-C) stopped the run; nothing is kept.
+
+        Example::
+
+            spec = qmaps.spec("ensembles/presets/suris.toml", ensemble={"orbits": 1000})
+            with spec.run(progress=True) as run:
+                print(run.log)
+        """
         if self._folder is None:
             raise ConfigError(f"{self!r} has run: a spec runs once (read it again with qmaps.spec)")
         folder, self._folder = self._folder, None
@@ -218,19 +241,33 @@ class Spec:
 
 
 def spec(config, *, initial=None, threads=0, simd="auto", sets=(), tmpdir=None, **tables):
-    """The run a configuration describes, read and checked, not run: a qmaps.Spec, whose fields
-    say what it runs and whose run() runs it.
+    """The run a configuration describes, read and checked as ``qmaps run`` reads it, not run: a
+    ``qmaps.Spec``, whose attributes say what it runs and whose ``run()`` runs it.
 
-    config   a dict of tables, TOML text or the path of a TOML file
-    initial  the starting points instead of [ensemble]: a dict or structured array with q1, q2,
-             p1, p2, four arrays, or an array of shape (orbits, 4)
-    threads, simd
-             as --threads and --simd (0 and "auto": every core, the best ISA)
-    sets     "section.key=value" overrides, as --set
-    **tables keyword overrides by table: run={"steps": 100}, ensemble={"orbits": 1000}
-    tmpdir   where the run's file is written until close() (default: the system's)
+    Args:
+        config: a dict of tables, TOML text or the path of a TOML file.
+        initial: the starting points instead of ``[ensemble]``: a dict or structured array with
+            q1, q2, p1, p2, four arrays, or an array of shape (orbits, 4).
+        threads: as ``--threads``: 1 to 1024, or 0 (the default) for every core.
+        simd: as ``--simd``: "auto" (the default, the best this CPU has), "scalar", "sse2",
+            "avx2" or "avx512".
+        sets: ``"section.key=value"`` overrides, as ``--set``.
+        tmpdir: the folder that holds the run's file until the run is closed (default: the
+            system's temporary folder).
+        **tables: keyword overrides by table, as ``run={"steps": 100}`` or
+            ``ensemble={"orbits": 1000}``.
 
-    Raises ConfigError (the key and its line), FileError, UnsupportedError."""
+    Raises:
+        ConfigError: a bad configuration or argument (the message names the key and its line).
+        FileError: a file that cannot be read, or a ``tmpdir`` that cannot be written.
+        UnsupportedError: ``simd`` names an instruction set this CPU or build lacks.
+
+    Example::
+
+        spec = qmaps.spec("ensembles/presets/suris.toml", run={"steps": 100},
+                          ensemble={"orbits": 1000}, sets=["map.h=0.05"])
+        print(spec)          # qmaps.Spec(suris, 1000 orbits x 100 steps)
+    """
     engine = _the_engine()
     path, text, source = _config_source(config)
     if isinstance(sets, (str, bytes)) or not isinstance(sets, collections.abc.Iterable):
@@ -265,40 +302,77 @@ def spec(config, *, initial=None, threads=0, simd="auto", sets=(), tmpdir=None, 
 
 def run(config, *, initial=None, threads=0, simd="auto", progress=None, sets=(), tmpdir=None,
         **tables):
-    """Runs a configuration as `qmaps run` does and returns the run, opened lazily (a
-    qmaps.Run: per-orbit arrays, histograms, sections and indicators as numpy arrays, the
-    provenance in .attrs, .save(path) to keep the file): qmaps.spec(...).run(progress=...).
+    """Runs a configuration as ``qmaps run`` does and returns the run, a ``qmaps.Run`` opened
+    lazily: per-orbit arrays, histograms, sections and indicators as numpy arrays, the provenance
+    in ``.attrs``, and ``.save(path)`` to keep the file. It is
+    ``qmaps.spec(...).run(progress=...)``. The GIL is released while the orbits step.
 
-    config   a dict of tables, TOML text or the path of a TOML file
-    initial  the starting points instead of [ensemble]: a dict or structured array with q1, q2,
-             p1, p2, four arrays, or an array of shape (orbits, 4)
-    threads, simd
-             as --threads and --simd (0 and "auto": every core, the best ISA)
-    progress a callable(step, total) called after each segment, or True for a bar (tqdm when
-             installed)
-    sets     "section.key=value" overrides, as --set
-    **tables keyword overrides by table: run={"steps": 100}, ensemble={"orbits": 1000}
-    tmpdir   where the run's file is written until close() (default: the system's)
+    Args:
+        config: a dict of tables, TOML text or the path of a TOML file.
+        initial: the starting points instead of ``[ensemble]``: a dict or structured array with
+            q1, q2, p1, p2, four arrays, or an array of shape (orbits, 4).
+        threads: as ``--threads``: 1 to 1024, or 0 (the default) for every core.
+        simd: as ``--simd``: "auto" (the default, the best this CPU has), "scalar", "sse2",
+            "avx2" or "avx512".
+        progress: a callable ``progress(step, total)``, called after each segment, or True for
+            a bar (tqdm when installed, else a line on stderr).
+        sets: ``"section.key=value"`` overrides, as ``--set``.
+        tmpdir: the folder that holds the run's file until the run is closed (default: the
+            system's temporary folder).
+        **tables: keyword overrides by table, as ``run={"steps": 100}`` or
+            ``ensemble={"orbits": 1000}``.
 
-    Raises ConfigError (the key and its line), FileError, UnsupportedError, and
-    KeyboardInterrupt when Ctrl-C stopped the run (nothing is kept). The GIL is released while
-    the orbits step."""
+    Raises:
+        ConfigError: a bad configuration or argument (the message names the key and its line).
+        FileError: a file that cannot be read or written.
+        UnsupportedError: ``simd`` names an instruction set this CPU or build lacks.
+        KeyboardInterrupt: a signal (Ctrl-C) stopped the run; nothing is kept.
+
+    Example::
+
+        with qmaps.run("ensembles/presets/suris.toml", ensemble={"orbits": 1000},
+                       run={"steps": 200}) as run:
+            counts = run.histogram("q1q2").counts
+            run.save("suris-small.h5")
+    """
     return spec(config, initial=initial, threads=threads, simd=simd, sets=sets, tmpdir=tmpdir,
                 **tables).run(progress=progress)
 
 
 def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, start="taylor",
           escape_bound=1e8, chaos=False, energy=None, frame=None):
-    """One orbit's table, as `qmaps orbit` prints it: n, the phase point, the invariants, the
-    continuous system's integrals (the _cont columns) and with chaos=True the indicators.
+    """One orbit's table, as ``qmaps orbit`` prints it: ``n``, the phase point, the map's
+    invariants, the continuous system's integrals (the ``_cont`` columns) and, with
+    ``chaos=True``, the chaos indicators. An orbit that escapes ends its rows before the escape,
+    with a RuntimeWarning that says when.
 
-    map      a built-in map's name, a qmaps.Map, or a TOML file whose [map] is one
-    params   {name: value} of the map's parameters (qmaps.maps() lists them)
-    ic       (q1, q2, p1, p2); with energy=E, p2 is solved from H_cont = E, its sign kept
-    frame    True: a pandas DataFrame; False: a numpy structured array; None (default): the
-             DataFrame when pandas is installed, else the array
+    Args:
+        map: a built-in map's name, a ``qmaps.Map``, or a TOML file whose ``[map]`` is written
+            as formulas.
+        params: ``{name: value}`` of the map's parameters (``qmaps.maps()`` lists them).
+        ic: the initial condition (q1, q2, p1, p2): four numbers, or the text "q1,q2,p1,p2".
+        steps: the steps, >= 0.
+        every: keep every every-th row, >= 1.
+        start: the rule that turns the phase point into the map's two-step state, "taylor"
+            (the default) or "euler".
+        escape_bound: the orbit escapes when ``|q|`` exceeds it.
+        chaos: also the chaos indicators' columns (lyapunov, fli, megno, ...).
+        energy: put the initial condition on H_cont = energy: p2 is solved from q1, q2, p1,
+            with the sign ``ic`` gives it.
+        frame: True for a pandas DataFrame, False for a numpy structured array (``n`` int64,
+            the rest float64); None (the default) for the DataFrame when pandas is installed,
+            else the array.
 
-    An orbit that escapes ends its rows before the escape, with a RuntimeWarning saying when."""
+    Raises:
+        ConfigError: a bad map, parameter or argument.
+        KeyboardInterrupt: a signal (Ctrl-C) stopped the orbit; no rows are returned.
+
+    Example::
+
+        table = qmaps.orbit("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1},
+                            (0.0, 0.3, 0.4, 0.1), steps=10000, every=10, frame=False)
+        error = abs(table["H_cont"] - table["H_cont"][0]).max()
+    """
     engine = _the_engine()
     if isinstance(map, dict):  # a qmaps.Map, or a [map] table written as formulas
         with tempfile.TemporaryDirectory() as folder:
@@ -336,6 +410,13 @@ def orbit(map, params=None, ic=(0.0, 0.0, 0.0, 0.0), steps=1000, every=1, *, sta
 
 
 def maps():
-    """Every map by name: its summary, the paper's equations, its invariants and its parameters
-    (name, meaning, default or None, required), as `qmaps list` prints them."""
+    """Every built-in map by name, in ``qmaps list``'s order, as it prints them: ``{name:
+    {"name", "summary", "equations", "invariants", "parameters"}}``. Each parameter is a dict
+    ``{"name", "meaning", "default", "required"}``, its default None where it has none.
+
+    Example::
+
+        for name, m in qmaps.maps().items():
+            print(name, [p["name"] for p in m["parameters"] if p["required"]])
+    """
     return {m["name"]: m for m in _the_engine().maps()}

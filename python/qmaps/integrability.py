@@ -19,9 +19,34 @@ from .errors import ConfigError
 
 
 class Integrability:
-    """The evidence of one map: `verdict`, `reason`, `tests_agree`, the report as `text`, and the
-    three tests as dicts: `degrees` (sequence, runs, growth), `fields` (by prime: periods and
-    their statistics), `heights` (log_heights, growth)."""
+    """The evidence of one map, as ``qmaps.integrability`` returns it: the verdict and the three
+    tests, each a dict of its group's attributes in the file (docs/integrability.md) with its
+    arrays. ``str()`` of it is the report.
+
+    Args:
+        path: the HDF5 file ``qmaps integrability --out`` (or ``out=``) wrote.
+        text: the report, as ``qmaps integrability`` prints it.
+
+    Attributes:
+        map: the map's name.
+        verdict: "integrable", "not integrable" or "undecided".
+        reason: why, in a sentence.
+        tests_agree: whether the three tests agree.
+        coordinates: the names of the coordinates the map was evaluated over.
+        evaluated_by: how the map was evaluated over exact numbers.
+        degrees: degree growth: "sequence" (d_0 ... d_n), "runs" (one per prime and line, each
+            with its "degrees"), "growth", "entropy", "generating_function", ...
+        fields: orbits over finite fields, by prime: "periods", "ks_distance", "p_value",
+            "level_kept", ...
+        fields_says: the finite fields' verdict.
+        heights: height growth: "log_heights", "growth", ...
+        text: the report.
+
+    Example::
+
+        r = qmaps.Integrability("mcmillan-integrability.h5", "")
+        print(r.verdict, r.degrees["growth"], sorted(r.fields))
+    """
 
     def __init__(self, path, text):
         import h5py
@@ -78,12 +103,40 @@ def _primes(name, primes):
 def integrability(map, params=None, *, steps=30, degree_cap=20000, degree_primes=(), lines=2,
                   field_primes=(), orbits=1000, max_period=0, height_steps=40,
                   height_bits=2**20, seed=1, out=None):
-    """Whether `map` is integrable, with its evidence (an Integrability).
+    """Whether `map` is integrable, by ``qmaps integrability``'s three exact tests (degree
+    growth, orbits over finite fields, height growth), in process: its verdict and evidence, an
+    Integrability. The arguments after ``params`` are the command's options of the same names.
 
-    map      a built-in map's name, a qmaps.Map, or a TOML file whose [map] is one
-    params   {name: value} of the map's parameters (read exactly as the decimals written)
-    out      also keep the evidence in this HDF5 file (the schema in docs/integrability.md)
-    The other arguments are `qmaps integrability`'s options of the same names."""
+    Args:
+        map: a built-in map's name, a ``qmaps.Map``, or a TOML file whose ``[map]`` is written
+            as formulas.
+        params: ``{name: value}`` of the map's parameters, each read exactly as the decimal
+            written.
+        steps: degree growth: its steps, 1 to 10000.
+        degree_cap: degree growth: stop where a degree passes it, >= 16.
+        degree_primes: degree growth: the primes p of F_p(t); empty for two primes near 2^61.
+        lines: degree growth: random lines per prime, 1 to 16.
+        field_primes: finite fields: the primes; empty for 1009, 4001, 10007 (a map of two
+            coordinates) or 31, 61, 101 (four).
+        orbits: finite fields: orbits per prime, 2 to 10^8.
+        max_period: finite fields: an orbit not back by then is counted apart; 0 for
+            64 p^(d/2).
+        height_steps: height growth: its steps, 1 to 10000.
+        height_bits: height growth: stop where a height passes this many bits.
+        seed: the random lines, the points and the bootstrap.
+        out: also keep the evidence in this HDF5 file (its schema is in
+            docs/integrability.md).
+
+    Raises:
+        ConfigError: a bad argument (named), a number that is not prime, or a map that is not
+            rational (saying why).
+
+    Example::
+
+        r = qmaps.integrability("suris", {"A": 0.7, "B": 0.3, "alpha": 0.9, "h": 0.1})
+        print(r.verdict, r.reason)
+        print(r.degrees["sequence"], r.fields[31]["periods"][:10])
+    """
     if isinstance(map, dict):  # a qmaps.Map, or a [map] table written as formulas
         with tempfile.TemporaryDirectory() as folder:
             path = os.path.join(folder, "map.toml")

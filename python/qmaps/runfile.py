@@ -95,15 +95,41 @@ class Datasets(collections.abc.MutableMapping):
 
 @dataclasses.dataclass
 class Group:
-    """An HDF5 group: its path, attributes, datasets (read when first asked for) and subgroups,
-    each by name."""
+    """An HDF5 group of a run file: its path, attributes, datasets (each read when first asked
+    for) and subgroups, each by name.
+
+    Attributes:
+        path: the group's path in the file, as "/invariants/H".
+        attrs: its attributes by name, each a str, int or float (an array stays a numpy array).
+        datasets: its datasets by name, each read into a numpy array (the file's dtype and
+            shape) when first asked for and then kept; an array assigned to a name replaces it
+            in memory.
+        groups: its subgroups by name, each a Group.
+
+    Example::
+
+        h = run["invariants/H"]                  # a Group
+        drift = h.datasets["max_abs_drift"] / abs(h.datasets["initial"])
+        print(h.path, list(h.datasets), h.attrs)
+    """
     path: str
     attrs: dict = dataclasses.field(default_factory=dict)
     datasets: dict = dataclasses.field(default_factory=dict)
     groups: dict = dataclasses.field(default_factory=dict)
 
     def __getitem__(self, path):
-        """The dataset or group at `path` below this group ("invariants/H/initial")."""
+        """The dataset (a numpy array) or group at `path` below this group.
+
+        Args:
+            path: names joined by "/", as "invariants/H/initial".
+
+        Raises:
+            KeyError: there is none.
+
+        Example::
+
+            initial = run["invariants/H/initial"]
+        """
         node = self
         parts = [p for p in path.split("/") if p]
         for k, part in enumerate(parts):
@@ -116,6 +142,13 @@ class Group:
         return node
 
     def __contains__(self, path):
+        """Whether there is a dataset or group at `path` below this group.
+
+        Example::
+
+            if "chaos/megno" in run:
+                megno = run["chaos/megno"]
+        """
         try:
             self[path]
         except KeyError:
@@ -123,12 +156,37 @@ class Group:
         return True
 
     def get(self, path, default=None):
+        """The dataset or group at `path` below this group, or `default` when there is none.
+
+        Args:
+            path: names joined by "/", as "chaos/megno".
+            default: what to return when there is nothing at `path`.
+
+        Example::
+
+            megno = run.get("chaos/megno")       # None for a run without [chaos]
+        """
         return self[path] if path in self else default
 
 
 @dataclasses.dataclass
 class Histogram:
-    """A histogram of the file (drift, image, density or section density), in one form."""
+    """A histogram of the file (a density, a section's density, a drift histogram, the
+    energy-momentum image or a chaos indicator's), in one form.
+
+    Attributes:
+        counts: the counts, int64 of shape (nx,) or (nx, ny), x first.
+        edges: the bins' edges, ``[x_edges]`` or ``[x_edges, y_edges]``.
+        axes: the coordinate or invariant of each axis, the group's x (and y) attributes.
+        underflow: the samples below the range.
+        overflow: the samples above it.
+        samples: all the samples, in range or not.
+
+    Example::
+
+        h = run.histogram("q1q2")
+        assert h.samples == h.counts.sum() + h.underflow + h.overflow
+    """
     counts: np.ndarray  # int64, (nx,) or (nx, ny), x first
     edges: list  # x_edges (and y_edges)
     axes: list  # the coordinate or invariant of each axis
@@ -138,7 +196,16 @@ class Histogram:
 
     @classmethod
     def of(cls, group, counts="counts"):
-        """The histogram stored in `group` (`counts="density"` for a section)."""
+        """The histogram stored in `group`.
+
+        Args:
+            group: the Group that holds it, as ``run["histograms/q1q2"]``.
+            counts: the name of its counts' dataset: "counts", or "density" for a section.
+
+        Example::
+
+            density = qmaps.Histogram.of(run["sections/q1up"], "density")
+        """
         data = group.datasets[counts]
         names = ["x", "y"][:data.ndim]
         return cls(data, [group.datasets[n + "_edges"] for n in names],
@@ -153,8 +220,20 @@ NOT_PER_ORBIT = ("sections", "trajectories")
 
 @dataclasses.dataclass
 class Run(Group):
-    """The root group of a run file, with the parameters and invariant names at hand. It keeps the
-    file open until `close()` (or the end of a `with` block)."""
+    """The root group of a run file, a Group, as ``qmaps.load`` and ``qmaps.run`` return it,
+    with the parameters and invariant names at hand. It keeps the file open until ``close()`` (or the end
+    of a ``with`` block).
+
+    Attributes:
+        file: the file's path.
+        log: for a run of ``qmaps.run``, the summary lines ``qmaps run`` prints; else empty.
+
+    Example::
+
+        with qmaps.load("suris.h5") as run:
+            print(run.attrs["map"], run.params, run.invariants)
+            x = run["sections/q1up/x"]
+    """
     file: str = ""
     h5file: object = None
     owned: str = ""  # a folder removed with the file on close() (a run of qmaps.run)
@@ -162,22 +241,50 @@ class Run(Group):
 
     @property
     def params(self):
-        """The map's parameters, {"A": 0.7, ..., "h": 0.1}, from the `param.<name>` attributes."""
+        """The map's parameters as a dict, ``{"A": 0.7, ..., "h": 0.1}``, read from the
+        ``param.<name>`` attributes.
+
+        Example::
+
+            h = run.params["h"]
+        """
         return {k[len("param."):]: v for k, v in self.attrs.items() if k.startswith("param.")}
 
     @property
     def invariants(self):
-        """The map's invariants ("H", "I1", ...), as in the file (not the energy-momentum image)."""
+        """The names of the map's invariants, as ``["H", "I1", "I2"]``, the groups of
+        /invariants (without the energy-momentum image).
+
+        Example::
+
+            for name in run.invariants:
+                print(name, run["invariants/" + name].datasets["max_abs_drift"].max())
+        """
         return [n for n in self.groups["invariants"].groups if n != "image"]
 
     def histogram(self, name):
-        """The Histogram of /histograms/<name> (counts, edges, axes, under- and overflow)."""
+        """The Histogram of /histograms/<name>: counts, edges, axes, under- and overflow.
+
+        Args:
+            name: the histogram's name in the configuration's ``[[histogram]]``.
+
+        Example::
+
+            h = run.histogram("q1q2")
+            print(h.axes, h.counts.shape)
+        """
         return Histogram.of(self["histograms/" + name])
 
     def histograms(self):
-        """Every histogram of the file, whichever observer wrote it, by its group's path:
-        {"histograms/q1q2": ..., "invariants/H/drift_histogram": ..., "sections/q1up": ...,
-        "chaos/histograms/megno": ...}. A section's is its density of crossings."""
+        """Every histogram of the file, whichever observer wrote it, as a dict of Histograms by
+        its group's path: "histograms/q1q2", "invariants/H/drift_histogram", "sections/q1up",
+        "chaos/histograms/megno", ... A section's is its density of crossings.
+
+        Example::
+
+            for path, h in run.histograms().items():
+                print(path, h.axes, h.samples)
+        """
         found = {}
 
         def visit(group):
@@ -190,9 +297,19 @@ class Run(Group):
         return found
 
     def tunes(self):
-        """Each orbit's tunes (docs/tunes.md), {"nu1", "nu2", "nu1_second", "nu2_second",
-        "diffusion", "class"}: arrays of shape (orbits,), NaN where an orbit has no tune. Raises
-        KeyError for a run without [tunes], FileError for one without per-orbit data."""
+        """Each orbit's tunes (docs/tunes.md) as a dict of arrays of shape (orbits,) by name:
+        "nu1", "nu2", "nu1_second", "nu2_second", "diffusion" (log10 of the tunes' change) and
+        "class", NaN where an orbit has no tune.
+
+        Raises:
+            KeyError: the run has no ``[tunes]``.
+            FileError: the run was written without per-orbit data.
+
+        Example::
+
+            tunes = run.tunes()
+            chaotic = tunes["class"] == 1        # 0 regular, 1 chaotic, 2 escaped, 3 no tune
+        """
         group = self["tunes"]
         names = ("nu1", "nu2", "nu1_second", "nu2_second", "diffusion", "class")
         if not all(n in group.datasets for n in names):
@@ -201,17 +318,37 @@ class Run(Group):
         return {n: group.datasets[n] for n in names}
 
     def dataset(self, path):
-        """The h5py dataset at `path` ("sections/q1up/x"): its slices read only what they ask."""
+        """The h5py dataset at `path`, whose slices read only what they select.
+
+        Args:
+            path: the dataset's path, as "sections/q1up/x".
+
+        Raises:
+            KeyError: there is no such dataset.
+
+        Example::
+
+            first = run.dataset("sections/q1up/x")[:1000]
+        """
         group, _, name = path.strip("/").rpartition("/")
         node = self[group] if group else self
         return node.datasets.h5(name)
 
     def per_orbit(self):
-        """{column: array of shape (orbits,)}: every per-orbit dataset (of /initial, /final with
-        its raw state, /escape, /invariants, /chaos and every measurement's columns: all but the
-        sections' points, the trajectories' rows and the histograms), named by its path with "."
-        for "/" ("initial.q1", "invariants.H.max_abs_drift", "escape.step"). Raises FileError
-        when the file has none (a run written with per_orbit = false)."""
+        """Every per-orbit dataset as a dict ``{column: array of shape (orbits,)}``: those of
+        /initial, /final with its raw state, /escape, /invariants, /chaos and every
+        measurement's columns (all but the sections' points, the trajectories' rows and the
+        histograms), each named by its path with "." for "/": "initial.q1",
+        "invariants.H.max_abs_drift", "escape.step".
+
+        Raises:
+            FileError: the file has none (a run written with ``per_orbit = false``).
+
+        Example::
+
+            columns = run.per_orbit()
+            alive = columns["escape.step"] < 0
+        """
         orbits = self.attrs["orbits"]
         columns = {}
 
@@ -233,16 +370,36 @@ class Run(Group):
         return columns
 
     def to_pandas(self):
-        """The per-orbit data as a pandas DataFrame, one row per orbit (index `orbit`), one column
-        per dataset of per_orbit(). Needs pandas (Debian: python3-pandas)."""
+        """The per-orbit data as a pandas DataFrame, one row per orbit (index "orbit"), one
+        column per dataset of ``per_orbit()``. Needs pandas (Debian: python3-pandas).
+
+        Raises:
+            ImportError: pandas is not installed.
+            FileError: the file has no per-orbit data.
+
+        Example::
+
+            frame = run.to_pandas()
+            print(frame["invariants.H.max_abs_drift"].describe())
+        """
         pandas = _import("pandas", "python3-pandas")
         frame = pandas.DataFrame(self.per_orbit())
         frame.index.name = "orbit"
         return frame
 
     def to_xarray(self):
-        """The per-orbit data as an xarray Dataset over the dimension `orbit`, with the file's root
-        attributes. Needs xarray (Debian: python3-xarray)."""
+        """The per-orbit data as an xarray Dataset over the dimension "orbit", with the file's
+        root attributes. Needs xarray (Debian: python3-xarray).
+
+        Raises:
+            ImportError: xarray is not installed.
+            FileError: the file has no per-orbit data.
+
+        Example::
+
+            data = run.to_xarray()
+            mean_q1 = data["initial.q1"].where(data["escape.step"] < 0).mean().item()
+        """
         xarray = _import("xarray", "python3-xarray")
         variables = {name: ("orbit", values) for name, values in self.per_orbit().items()}
         attrs = {k: v for k, v in self.attrs.items() if isinstance(v, (str, int, float))}
@@ -250,8 +407,22 @@ class Run(Group):
                               attrs=attrs)
 
     def save(self, path):
-        """Writes the file, as it is, to `path`: under a temporary name first, renamed when
-        complete, so that `path` is never a partial file."""
+        """Writes the file, as it is, to `path`: under a temporary name first (created anew,
+        never through a link), renamed when complete, so that `path` is never a partial file.
+
+        Args:
+            path: where to write it (a str or os.PathLike); a regular file there is replaced.
+
+        Raises:
+            FileError: `path` exists but is not a regular file (a folder, device, FIFO or
+                link), cannot be written, or the run's own file is gone (a run of
+                ``qmaps.run`` that was closed).
+
+        Example::
+
+            with qmaps.run("ensembles/presets/suris.toml", ensemble={"orbits": 1000}) as run:
+                run.save("suris-small.h5")
+        """
         path = os.fspath(path)
         if not os.path.isfile(self.file):
             raise FileError(f"cannot save to '{path}': the run's file '{self.file}' is gone" +
@@ -278,7 +449,14 @@ class Run(Group):
 
     def close(self):
         """Closes the file: datasets not read by then can no longer be; arrays already read stay
-        valid. A run of qmaps.run removes its file then (save() it first to keep it)."""
+        valid. A run of ``qmaps.run`` removes its file then (``save()`` it first to keep it).
+
+        Example::
+
+            run = qmaps.load("suris.h5")
+            x = run["sections/q1up/x"]
+            run.close()                          # x stays valid
+        """
         if self.h5file is not None:
             self.h5file.close()
             self.h5file = None
@@ -354,10 +532,25 @@ def _regular_file(path):
 
 
 def load(path, skip=()):
-    """The run in the file at `path`, opened lazily: attributes and the tree are read now, each
-    dataset when first asked for. Datasets whose path (without the leading /) matches a pattern
-    of `skip` (fnmatch: "initial/*", "invariants/*/final") are left out. Raises FileError
-    when the file is missing, not a regular file, not HDF5 (or damaged) or not a qmaps run."""
+    """The run in the file at `path` as a Run, opened lazily: attributes and the tree are read
+    now, each dataset when first asked for. Every group, dataset and attribute the file holds is
+    there, whatever its name, but for the datasets `skip` leaves out.
+
+    Args:
+        path: the run file (a str or os.PathLike).
+        skip: fnmatch patterns on a dataset's path without the leading /, as ``"initial/*"``
+            or ``"invariants/*/final"``: the datasets they match are left out.
+
+    Raises:
+        FileError: the file is missing, not a regular file, not HDF5, damaged, or not a qmaps
+            run; `path` is not a path.
+
+    Example::
+
+        run = qmaps.load("suris.h5", skip=("initial/*", "final/*"))
+        print(run.attrs["orbits"], run.params)
+        run.close()
+    """
     try:
         path = os.fspath(path)
     except TypeError:
