@@ -31,11 +31,11 @@ with the known integrable cases (a second integral the map names there) and delt
 Each image is 6.4 x 4.8 in, each summary panel 5 x 4 in, at --dpi dots per inch (default 200).
 --style paper fits a journal: an image is a column wide (3.4 in, 86 mm), a summary or a sweep a
 page wide (7 in), each as tall as its content (a picture of fixed aspect fills its frame; one
-taller than 1.4 columns makes the image narrower instead), so that at most a tenth of the canvas
-is blank; 7 pt serif type (5 pt at least) with STIX mathematics, thinner lines; no text over the
-data: notes under the frame, legends above the data, resonance lines labelled where no tune
-lies, a sweep's known cases in a footer. Its PDF and PostScript embed their fonts (TrueType),
-its SVG draws the glyphs as paths.
+taller than 1.4 columns makes the image narrower instead), leaving little of the canvas blank;
+7 pt serif type (5 pt at least) with STIX mathematics, thinner lines; no text over the data:
+notes under the frame, legends above the data, resonance lines labelled where no tune lies, a
+sweep's known cases in a footer. Its PDF and PostScript embed their fonts (TrueType), its SVG
+draws the glyphs as paths.
 Labels use the physicist's symbols (q₁, p₂, α, I⁽ᴵⱽ⁾), the title gives a shell's energy E, and a
 picture whose axes are both phase-space coordinates has equal aspect. Where a configured range
 cut samples or points, the picture says how many; --range auto draws the data's own extent.
@@ -165,10 +165,11 @@ def outside_note(h):
 
 def note(ax, text):
     """A small note in the lower left corner, left out of the layout; in the paper style under
-    the x axis' label, left-aligned with the frame, in the layout (it covers no data)."""
+    the x axis' label, centred on the frame, in the layout (it covers no data)."""
     if paper():
-        ax.annotate(text, (0, 0), xycoords=("axes fraction", ax.xaxis.label), xytext=(0, -1),
-                    textcoords="offset points", fontsize=pt(7), va="top", ha="left", gid="note")
+        ax.annotate(text, (0.5, 0), xycoords=("axes fraction", ax.xaxis.label), xytext=(0, -1),
+                    textcoords="offset points", fontsize=pt(7), va="top", ha="center",
+                    gid="note")
         return
     ax.text(0.01, 0.01, text, transform=ax.transAxes, fontsize=pt(7), va="bottom", ha="left",
             bbox=dict(facecolor="white", alpha=0.8, edgecolor="none", pad=1.5),
@@ -658,10 +659,11 @@ def place_resonance_labels(ax, labels):
         # Worded alike whatever the count, so that a new count moves little.
         base = note_text.__dict__.setdefault("qmaps_base", note_text.__dict__.get(
             "qmaps_raw", note_text.get_text()))
-        said = f"{base}; {len(placed)} of {len(labels)} resonance lines labelled, where no tune lies"
+        said = f"{base}; {len(placed)} of {len(labels)} resonance lines labelled, " \
+               "where no tune lies"
         changed |= said != note_text.__dict__.get("qmaps_raw")
         note_text.qmaps_raw = said
-        wrap_text(note_text, text_widths(ax, renderer)[2], renderer)
+        wrap_text(note_text, text_width(ax), renderer)
     return changed
 
 
@@ -900,39 +902,28 @@ def colour_bars(ax):
             if hasattr(bar, "_colorbar") and bar._colorbar.mappable.axes is ax]
 
 
-def text_widths(ax, renderer):
-    """The widths (pixels) the texts of `ax` may take, each centred on the frame but the note:
-    its title and its x axis' label, as far over the tick labels on its left and the colour bar
-    on its right as both reach; its note, from the frame's left edge to the colour bar's right
-    edge."""
-    frame = ax.bbox
-    known = ax.__dict__.get("qmaps_reach")
-    if known is None or abs(known[0] - frame.width) > 1:  # the decorations, for this width
-        ticks = ax.yaxis.get_tightbbox(renderer)
-        left = max(frame.x0 - ticks.x0, 0.0) if ticks is not None else 0.0
-        # The bars' own widths, not where they stand: a note wider than its frame pushes them.
-        bars = colour_bars(ax)
-        gap = 3 * ax.figure.dpi / 72 if bars else 0.0
-        right = sum(bar.get_tightbbox(renderer).width + gap for bar in bars)
-        ax.qmaps_reach = known = (frame.width, min(left, right), right)
-    return (frame.width + 2 * known[1], frame.width + 2 * known[1], frame.width + known[2])
+NARROWEST_TEXT = 1.2  # inches: the width a panel's title, x label and note wrap to at least
+
+
+def text_width(ax):
+    """The width (pixels) the title, x label and note of `ax`, each centred on its frame, wrap
+    to: the frame's, or NARROWEST_TEXT. (A text that juts out of its frame widens the frame's
+    margins by as much; centred, it juts out half as far on each side, and the layout settles.)"""
+    return max(ax.bbox.width, NARROWEST_TEXT * ax.figure.dpi)
 
 
 def wrap_panel_texts(fig, rows, headings):
-    """Titles, x axis' labels and notes wrapped to the widths their panels give them
-    (text_widths), colour bars' labels to the bars' height, `headings` (the figure's own texts) to
-    the figure's width."""
+    """Titles, x axis' labels and notes wrapped to text_width, colour bars' labels to the bars'
+    height, `headings` (the figure's own texts) to the figure's width."""
     renderer = fig.canvas.get_renderer()
     for text in headings:
         wrap_text(text, 0.98 * fig.bbox.width, renderer)
     for ax in (ax for row in rows for ax in row):
-        title_width, label_width, note_width = text_widths(ax, renderer)
-        for text, width in ((ax.title, title_width), (ax.xaxis.label, label_width)):
+        width = text_width(ax)
+        texts = [ax.title, ax.xaxis.label] + [t for t in ax.texts if t.get_gid() == "note"]
+        for text in texts:
             if text.get_text():
                 wrap_text(text, width, renderer)
-        for text in ax.texts:
-            if text.get_gid() == "note":
-                wrap_text(text, note_width, renderer)
         for bar in colour_bars(ax):
             if bar.yaxis.label.get_text():
                 wrap_text(bar.yaxis.label, bar.bbox.height, renderer)
@@ -976,34 +967,14 @@ def thin_ticks(ax, gap=2.0):
     return thinned
 
 
-def clear_title(ax):
-    """Raises the title of `ax` (of a drawn figure) above the tick labels at the top of its y axis
-    and its colour bars, which stand half their height above the frame, where the title reaches
-    over them; whether it moved."""
-    renderer = ax.figure.canvas.get_renderer()
-    if not ax.title.get_text():
-        return False
-    title = ax.title.get_window_extent(renderer)
-    labels = [label.get_window_extent(renderer) for axis in
-              [ax.yaxis] + [bar.yaxis for bar in colour_bars(ax)]
-              for label in shown_tick_labels(axis)]
-    low = [b.y1 for b in labels if b.x1 > title.x0 and b.x0 < title.x1 and b.y1 > title.y0]
-    if not low:
-        return False
-    pad = (max(low) - title.y0) * 72 / ax.figure.dpi + 1.0  # points
-    ax.qmaps_title_pad = ax.__dict__.get("qmaps_title_pad", plt.rcParams["axes.titlepad"]) + pad
-    ax.set_title(ax.title.get_text(), pad=ax.qmaps_title_pad, fontsize=ax.title.get_fontsize())
-    return True
-
-
 def fit_to_content(fig, rows, headings, width, tallest, free_shape=FREE_SHAPE):
     """The paper style's figure sized to its content, so that no canvas is left blank around a
     picture of fixed aspect: `width` wide, each row of panels (panel_rows) as tall as its frames
     need to fill the row at their aspects (a free aspect at `free_shape`), at most `tallest` in all;
     past that the free frames take the row's spare width, and a row of fixed aspects only (an
-    image's) makes the figure narrower. Titles and notes wrap to their frames (`headings`, the
-    figure's texts, to its width), and the placements that need the layout (after_layout) run
-    once it holds. While it is sought the frames fill their slots (constrained layout measures
+    image's) makes the figure narrower. Texts wrap (wrap_panel_texts; `headings`, the figure's
+    own, to its width), crowded tick labels are thinned, and the placements that need the layout
+    (after_layout) run once it holds. While it is sought the frames fill their slots (constrained layout measures
     the decorations of a frame shrunk to its aspect from the frame, not from its slot); they get
     their aspect back when their slots have it."""
     outer, inner = fig.qmaps_grids
@@ -1046,6 +1017,10 @@ def fit_to_content(fig, rows, headings, width, tallest, free_shape=FREE_SHAPE):
         for grid, row in zip(inner, widths):
             grid.set_width_ratios(row)
         size = (w - narrower, sum(heights) + decoration)
+        if len(rows) == 1 and narrower < 0.01 and \
+                all(abs(a - b) < 0.01 for a, b in zip(wide[0], widths[0])):
+            fig.set_size_inches(size)  # one row, as wide: its decorations keep their height
+            break
     for ax, (aspect, adjustable) in zip(axes, aspects):
         # In its upper left corner: should the slot come out a little larger than the frame (at
         # another dpi), the frame keeps its place beside the tick labels on its left and under
@@ -1055,7 +1030,7 @@ def fit_to_content(fig, rows, headings, width, tallest, free_shape=FREE_SHAPE):
     for _ in range(4):  # a placement may lengthen a note or widen tick labels, moving the frames
         wrap_panel_texts(fig, rows, headings)
         fig.draw_without_rendering()
-        if any([thin_ticks(ax) for ax in axes] + [clear_title(ax) for ax in axes]):
+        if any([thin_ticks(ax) for ax in axes]):
             fig.draw_without_rendering()
         frames = [tuple(np.round(ax.bbox.bounds, 1)) for ax in axes]
         if frames == placed_on:
