@@ -164,25 +164,18 @@ template <class Map, class V, int K, class Watch, class Sample>
   return ops::any(ops::negate(acc <= bound2) | (faults != V(0.0)));
 }
 
-// The same, out of line, for blocks of 8 chains: their states alone fill the 32 registers, and a
-// loop allocated apart from the block's many live values spills less (measured: 5.1e9 against
-// 4.4e9 particle-steps/s for Suris on AVX-512). One chain runs apart too (inlined in the block,
-// its loop ran at 0.70× of this); blocks of 2 and 4 chains fit in registers inline.
+// The same, out of line and flattened: the map's step is inlined into the chains' loop whatever
+// its size, so that the K chains interleave (an out-of-line step serializes them through memory),
+// and the loop is allocated apart from the block's many live values (8 chains' states alone fill
+// the 32 registers: 5.1e9 against 4.4e9 particle-steps/s for Suris on AVX-512 inlined in the
+// block). Only the loops, the per-sample and per-crossing work and the checked step are flattened,
+// not the whole block: its unit compiles in a third of the time (Suris, AVX2: 38 s → 13 s) at the
+// same speed.
 template <class Map, class V, int K, class Watch, class Sample>
 [[gnu::noinline, gnu::flatten]] bool step_chunk_apart(const Chunk<Map, V>& chunk,
                                                       typename Map::template State<V> (&s)[K],
                                                       Watch& watch, Sample& sample) {
   return step_chunk<Map, V, K>(chunk, s, watch, sample);
-}
-
-template <class Map, class V, int K, class Watch, class Sample>
-[[gnu::always_inline]] inline bool step_any_chunk(const Chunk<Map, V>& chunk,
-                                                  typename Map::template State<V> (&s)[K],
-                                                  Watch& watch, Sample& sample) {
-  if constexpr (K == 1 || K == 8)
-    return step_chunk_apart<Map, V, K>(chunk, s, watch, sample);
-  else
-    return step_chunk<Map, V, K>(chunk, s, watch, sample);
 }
 
 // The watch of a chunk whose steps a lane measurement records (the tunes' windows): each chain's
@@ -240,8 +233,10 @@ class Block {
     return std::any_of(alive_, alive_ + K, [](Mask m) { return ops::any(m); });
   }
 
-  // Advances the block from plan.first to plan.last and stores it.
-  void advance(Stepping stepping) {
+  // Advances the block from plan.first to plan.last and stores it. Stepping one checked step at a
+  // time (the scalar reference) compiles no chunk.
+  template <Stepping stepping>
+  void advance() {
     for (int k = 0; k < K; ++k)
       measures_[k].load(e_, first_ + k * W, plan_, static_cast<std::size_t>(k));
     if (densities_ && plan_.first == 0)
@@ -257,7 +252,11 @@ class Block {
       if (stepping == Stepping::single_steps || sections_.step_by_step() ||
           (recording && sections_.watched()))
         next = n + 1;
-      const bool checked = next == n + 1 ? single_step(next, recording) : chunk(n, next, recording);
+      bool checked;
+      if constexpr (stepping == Stepping::single_steps)
+        checked = single_step(next, recording);
+      else
+        checked = next == n + 1 ? single_step(next, recording) : chunk(n, next, recording);
       if (next > n + 1) schedule_.reach(next);
       n = next;
       if (recording && n == stop)
@@ -276,7 +275,7 @@ class Block {
   // One step of chain k to node j, checked: the lanes that escape or fault there are recorded and
   // frozen, as the reference path stops each orbit. Steps in place, the previous node copied value
   // by value (a copy of the whole State compiles to a memory-to-memory move).
-  void checked_step(int k, long long j) {
+  [[gnu::flatten]] void checked_step(int k, long long j) {
     V previous[std::tuple_size_v<State>];
     for (std::size_t i = 0; i < std::size(previous); ++i) previous[i] = s_[k][i];
     const V fault = detail::step_reporting_faults<Map>(c_, s_[k]);
@@ -295,7 +294,7 @@ class Block {
     qmaps::sample_densities<Map>(c_, x, alive_[k], observers_->densities, density_momentum_);
   }
   // The samples of chain k at its node x.
-  void sample(int k, const State& x) {
+  [[gnu::flatten]] void sample(int k, const State& x) {
     if (plan_.measure_orbits) measures_[k].sample(c_, x, alive_[k]);
     if (densities_) count_densities(k, x);
   }
@@ -324,7 +323,7 @@ class Block {
     const detail::Chunk<Map, V> args{c_, n, next - n, bound2_, samples};
     const auto sample = [this](int k, const State& x) { this->sample(k, x); };
     const auto steps = [&](auto& watch) {
-      return detail::step_any_chunk<Map, V, K>(args, s_, watch, sample);
+      return detail::step_chunk_apart<Map, V, K>(args, s_, watch, sample);
     };
     detail::RecordWatch<Map, V, K> records{&c_, {}};
     if (recording)
@@ -363,13 +362,12 @@ class Block {
   LaneObservers<Map, V> measures_[K];
 };
 
-// flatten: the map's step is inlined into the chains' loop whatever its size, so that the K
-// chains interleave (an out-of-line step serializes them through memory).
-template <class Map, class V, int K>
-[[gnu::flatten]] void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
-                                    const RunPlan& plan, Observers* observers, Stepping stepping) {
+template <class Map, class V, int K, Stepping stepping>
+void advance_block(const typename Map::Coeffs& c, Ensemble& e, std::size_t first,
+                   const RunPlan& plan, Observers* observers) {
   Block<Map, V, K> block(c, e, first, plan, observers);
-  if (block.any_alive()) block.advance(stepping);  // else nothing is left to step or observe
+  // else nothing is left to step or observe
+  if (block.any_alive()) block.template advance<stepping>();
 }
 
 }  // namespace qmaps

@@ -32,7 +32,7 @@ void advance_range(const typename Map::Coeffs& c, Ensemble& e, std::size_t first
                    Observers* observers) {
   if (x.isa == Isa::scalar) {
     for (std::size_t orbit = first; orbit < std::min(first + count, e.orbits); ++orbit)
-      advance_block<Map, double, 1>(c, e, orbit, plan, observers, Stepping::single_steps);
+      advance_block<Map, double, 1, Stepping::single_steps>(c, e, orbit, plan, observers);
   } else {
     simd_path<Map>(x.isa).advance(c, e, first, count, x.chains, plan, observers);
   }

@@ -24,7 +24,7 @@ void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t firs
   const auto blocks = [&]<int K>() {
     if constexpr (K <= most)
       for (std::size_t o = first; o < first + count; o += block)
-        advance_block<Map, V, K>(c, e, o, plan, observers, Stepping::chunks);
+        advance_block<Map, V, K, Stepping::chunks>(c, e, o, plan, observers);
   };
   switch (chains) {
     case 1: blocks.template operator()<1>(); break;

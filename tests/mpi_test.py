@@ -4,7 +4,7 @@ divides, with every kind of observer, trajectories across ranks and escaping orb
 single process's run, dataset for dataset and byte for byte, and records its ranks, threads and
 hosts; so does a gzip-compressed run and one without per-orbit datasets; a run interrupted under
 2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file,
-as does one stopped by SIGTERM or SIGINT sent to mpirun (20 times on a loaded machine, each stop
+as does one stopped by SIGTERM or SIGINT sent to mpirun (8 times on a loaded machine, each stop
 resumed by the next), which rank 0 names as mpirun's SIGTERM;
 a bad configuration or an unwritable output given to the last rank alone, or ranks given
 different configurations, end every rank with the message and nothing written; --shard is refused
@@ -34,7 +34,7 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
 TIMEOUT = 300  # seconds, per process
 INTERRUPT = {"QMAPS_SIGNAL_AT_STEP": "60:INT"}
-SIGNALS = 20  # SIGTERMs and SIGINTs to mpirun, each to a run resumed from the last checkpoint
+SIGNALS = 8  # SIGTERMs and SIGINTs to mpirun, each to a run resumed from the last checkpoint
 TRAJECTORIES = small_run.fixture("trajectory-across.toml")
 
 

@@ -260,7 +260,7 @@ class BlockSections {
 
   // The crossings a clean chunk from step `chunk_first` kept, recorded as check_sections records
   // them.
-  void record(long long chunk_first) {
+  [[gnu::flatten]] void record(long long chunk_first) {
     if (count_ == 0) return;
     before_stale_ = true;
     if (lane_dense())
@@ -270,13 +270,13 @@ class BlockSections {
   }
 
   // Step by step: the sections crossed by chain k from its node before to node n (its state s).
-  void check(int k, const State& s, Mask alive, long long n) {
+  [[gnu::flatten]] void check(int k, const State& s, Mask alive, long long n) {
     if (sections_)
       check_sections<Map>(c_, s, alive, *sections_, momentum_, first_ + k * W, n, before_[k]);
   }
   // The chains' nodes before the next step checked step by step, from their states s: computed
   // only when such a step comes (a watched chunk needs none, and with p each is a reversed step).
-  void refresh_before(const State (&s)[K]) {
+  [[gnu::flatten]] void refresh_before(const State (&s)[K]) {
     if (!before_stale_) return;
     for (int k = 0; k < K; ++k) before_[k] = node_values<Map>(c_, s[k], momentum_);
     before_stale_ = false;
