@@ -9,7 +9,6 @@
 
 #include <xsimd/xsimd.hpp>
 
-#include "core/compiled_isas.hpp"
 #include "core/ensemble.hpp"
 #include "core/error.hpp"
 #include "core/isa.hpp"
@@ -60,18 +59,11 @@ struct SimdPath {
 };
 
 // The path of `Map` for `isa`; an ISA this build did not compile is an `unsupported` error.
+// Defined for every map of the list, plain and with its deviations, in one generated unit
+// (core/simd_paths.cpp.in), the only one besides core/isa.cpp that knows which ISAs were compiled:
+// so the others compile the same whichever were, and a build for one ISA shares them (ccache)
+// with a build for all.
 template <class Map>
-SimdPath<Map> simd_path(Isa isa) {
-  switch (isa) {
-#define QMAPS_SIMD_PATH(name)                                      \
-  case Isa::name:                                                  \
-    return {&advance_blocks<Map, arch_of<Isa::name>>,              \
-            &invariants_of_orbits<Map, arch_of<Isa::name>>,        \
-            &contraction_probe<Map, arch_of<Isa::name>>};
-    QMAPS_FOR_EACH_COMPILED_ISA(QMAPS_SIMD_PATH)
-#undef QMAPS_SIMD_PATH
-    default: throw Error(ExitCode::unsupported, "no SIMD path for " + std::string(isa_name(isa)));
-  }
-}
+SimdPath<Map> simd_path(Isa isa);
 
 }  // namespace qmaps

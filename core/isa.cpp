@@ -48,6 +48,7 @@ std::span<const Isa> all_isas() { return kAll; }
 
 // The last element of kCompiled is a sentinel (an array may not be empty).
 std::span<const Isa> compiled_isas() { return std::span(kCompiled).first(std::size(kCompiled) - 1); }
+std::string_view kernel_flags() { return QMAPS_COMPILED_KERNEL_FLAGS; }
 
 bool cpu_supports(Isa isa) {
   __builtin_cpu_init();

@@ -20,6 +20,7 @@ std::string_view isa_name(Isa isa);
 Isa parse_isa(std::string_view name);        // throws qmaps::Error on an unknown name
 std::span<const Isa> all_isas();             // every SIMD ISA of the list, narrowest first
 std::span<const Isa> compiled_isas();        // SIMD ISAs built into this binary, narrowest first
+std::string_view kernel_flags();             // "isa: flags; ...": what their kernel units add
 bool cpu_supports(Isa isa);                  // scalar: always true
 Isa best_isa();                              // the widest ISA compiled and supported
 // The widest ISA this CPU has but this binary was built without, where wider than best_isa():

@@ -14,6 +14,7 @@
 
 #include "ensembles/config/config.hpp"
 #include "core/error.hpp"
+#include "core/isa.hpp"
 #include "ensembles/io/h5.hpp"
 #include "core/version.hpp"
 #include "kernels/suris.hpp"
@@ -98,7 +99,7 @@ TEST_F(Io, RootAttributesHoldTheRun) {
   EXPECT_EQ(root.attr_string("compiler"), build::compiler);
   EXPECT_EQ(root.attr_string("compiler_flags"), build::engine_flags);
   EXPECT_TRUE(Contains(root.attr_string("compiler_flags"), "-ffp-contract=off"));
-  EXPECT_EQ(root.attr_string("kernel_flags"), build::kernel_flags);
+  EXPECT_EQ(root.attr_string("kernel_flags"), kernel_flags());
   EXPECT_EQ(root.attr_int64("per_orbit"), 1);
   EXPECT_EQ(root.attr_string("map"), "suris");
   EXPECT_EQ(root.attr_double("param.A"), 0.7);

@@ -26,7 +26,8 @@ A few figures made to fail check the checks. QMAPS_PAPER_PRESETS=all (or a comma
 of preset names) runs every preset instead of the representative subset PRESETS, which covers
 every kind of figure: densities 2D and 1D, sections of points and of density, a section coloured
 by MEGNO and by FLI, the drift, the energy-momentum image, the tunes' frequency map, diffusion map,
-footprint and diffusion histogram, summaries of 2 to 5 panels and a sweep's plane."""
+footprint and diffusion histogram, summaries of 2 to 5 panels, a sweep's plane and the evidence
+of `qmaps integrability`."""
 import contextlib
 import io
 import math
@@ -360,6 +361,13 @@ class PaperStyleTest(unittest.TestCase):
         for name in chosen_presets():
             cls.runs[name] = run_preset(name, cls.dir)
             cls.figures.update(measured(cls.runs[name], cls.dir / "png"))
+        # The evidence of `qmaps integrability --out`, over few steps and orbits.
+        evidence = cls.dir / "evidence.h5"
+        subprocess.run([str(small_run.BINARY), "integrability", "--map", "suris", "--set", "A=0.7",
+                        "--set", "B=0.3", "--set", "alpha=0.9", "--set", "h=0.1", "--steps", "12",
+                        "--orbits", "200", "--height-steps", "12", "--out", str(evidence)],
+                       check=True, capture_output=True)
+        cls.figures.update(measured(evidence, cls.dir / "integrability"))
         if "chaos-flow" in cls.runs:
             cls.figures.update({f"{k} (fli)": v for k, v in measured(
                 cls.runs["chaos-flow"], cls.dir / "fli", color_by="fli").items()})
@@ -374,7 +382,7 @@ class PaperStyleTest(unittest.TestCase):
         kinds = {name.split("-", 1)[1].split(" ")[0] for name in self.figures}
         for kind in ("histogram-q1q2", "histogram-t", "section-q1up", "drift", "energy-momentum",
                      "frequency-map", "diffusion-map", "tune-footprint", "tune-diffusion",
-                     "summary", "b4a-sweep"):
+                     "summary", "b4a-sweep", "integrability"):
             self.assertTrue(any(k.endswith(kind) for k in kinds), kind)
 
     def test_blank_canvas_is_at_most_a_tenth(self):

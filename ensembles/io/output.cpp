@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "core/error.hpp"
+#include "core/isa.hpp"
 #include "ensembles/io/ranks.hpp"
 #include "core/version.hpp"
 #include "ensembles/io/measured_output.hpp"
@@ -177,7 +178,7 @@ void write_build(const h5::Group& root) {
   root.attr("git_commit", build::commit);
   root.attr("compiler", build::compiler);
   root.attr("compiler_flags", build::engine_flags);
-  root.attr("kernel_flags", build::kernel_flags);
+  root.attr("kernel_flags", std::string(kernel_flags()));
 }
 
 namespace {

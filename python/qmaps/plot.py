@@ -1246,7 +1246,8 @@ def plot(path, out_dir, fmt="png", dpi=200, color_by=None, auto=False, style_nam
 def draw_integrability(fig, result):
     """Draws the three panels of an Integrability (of ``qmaps.integrability``, or read from its
     file) into `fig`: the degree growth, the orbits' periods over finite fields against R(x),
-    and the height growth.
+    and the height growth. In the paper style the figure is then sized to its content, a page
+    wide.
 
     Args:
         fig: a matplotlib Figure, empty.
@@ -1258,7 +1259,8 @@ def draw_integrability(fig, result):
         fig = matplotlib.pyplot.figure(figsize=(15, 4), layout="constrained")
         qmaps.plot.draw_integrability(fig, r)
     """
-    degrees, periods, heights = fig.subplots(1, 3)
+    rows = panel_rows(fig, 3, 3)
+    degrees, periods, heights = rows[0]
     d = result.degrees
     for run in d["runs"]:
         degrees.semilogy(np.arange(len(run["degrees"])), np.maximum(run["degrees"], 1), marker=".",
@@ -1266,7 +1268,7 @@ def draw_integrability(fig, result):
     growth = d["growth"] + (f", log λ = {d['entropy']:.6g}" if d["growth"] == "exponential" else
                             f", n^{d['polynomial_degree']:.3g}" if d["growth"] == "polynomial" else "")
     degrees.set(xlabel="step n", ylabel="degree $d_n$", title=f"degree growth: {growth}")
-    degrees.legend(fontsize=pt(7))
+    legend_clear_of_data(degrees)
     top = 0
     for prime, field in sorted(result.fields.items()):
         t = np.sort(np.asarray(field["periods"], dtype=float))
@@ -1280,12 +1282,14 @@ def draw_integrability(fig, result):
     periods.plot(x, 1 - np.exp(-x) * (1 + x), "k--", linewidth=1.5, label="R(x)")
     periods.set(xlabel="period / λ,  λ = mean / 2", ylabel="fraction of points",
                 title=f"orbits over finite fields: {result.fields_says}")
-    periods.legend(fontsize=pt(7))
+    legend_clear_of_data(periods)
     h = result.heights
     heights.semilogy(np.arange(len(h["log_heights"])), np.maximum(h["log_heights"], 1e-3),
                      marker=".", linewidth=1)
     heights.set(xlabel="step n", ylabel="log height", title=f"height growth: {h['growth']}")
-    fig.suptitle(f"{result.map}: {result.verdict} ({result.reason})", fontsize=pt(10))
+    title = fig.suptitle(f"{result.map}: {result.verdict} ({result.reason})", fontsize=pt(10))
+    if paper():
+        fit_to_content(fig, rows, [title], style["page"], PAGE_HEIGHT)
 
 
 def integrability(result, path=None, dpi=200):
