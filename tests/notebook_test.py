@@ -17,7 +17,8 @@ NOTEBOOK = small_run.SOURCE_DIR / "docs" / "notebooks" / "quickstart.ipynb"
 # tools/notebook-outputs runs the notebooks as this test does, and stores their outputs.
 _loader = importlib.machinery.SourceFileLoader("notebook_outputs",
                                                str(small_run.TOOLS / "notebook-outputs"))
-notebook_outputs = importlib.util.module_from_spec(importlib.util.spec_from_loader("x", _loader))
+notebook_outputs = importlib.util.module_from_spec(
+    importlib.util.spec_from_loader("notebook_outputs", _loader))
 _loader.exec_module(notebook_outputs)
 
 
