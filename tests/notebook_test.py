@@ -52,7 +52,7 @@ class Quickstart(unittest.TestCase):
         # The outputs stored for the documentation site are the ones it shows now.
         stored = nbformat.read(NOTEBOOK, as_version=4)
         self.assertEqual(shown(stored), shown(notebook),
-                         "the notebook's stored outputs are stale: bash tools/notebook-outputs")
+                         "the notebook's stored outputs are stale: tools/notebook-outputs")
 
 
 def shown(notebook):
