@@ -16,13 +16,18 @@ void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t firs
                     std::size_t count, int chains, const RunPlan& plan, Observers* observers) {
   using V = xsimd::batch<double, Arch>;
   const std::size_t block = V::size * static_cast<std::size_t>(chains);
-  // A map may allow fewer chains (Map::max_chains): the others are not compiled for it.
+  // A map may allow fewer chains (Map::min_chains, Map::max_chains, applied by ModelOf::within):
+  // the others are not compiled for it.
+  constexpr int least = [] {
+    if constexpr (requires { Map::min_chains; }) return Map::min_chains;
+    return 1;
+  }();
   constexpr int most = [] {
     if constexpr (requires { Map::max_chains; }) return Map::max_chains;
     return 8;
   }();
   const auto blocks = [&]<int K>() {
-    if constexpr (K <= most)
+    if constexpr (K >= least && K <= most)
       for (std::size_t o = first; o < first + count; o += block)
         advance_block<Map, V, K, Stepping::chunks>(c, e, o, plan, observers);
   };

@@ -11,9 +11,13 @@
 
 #include "core/params.hpp"
 #include "core/phase.hpp"
-#include "integrability/verdict.hpp"
+#include "integrability/options.hpp"
 
 namespace qmaps {
+namespace exact {
+class ExactMap;
+struct Report;
+}  // namespace exact
 
 // Where a run's spec comes from (read_spec): its configuration and overrides, and the path it
 // takes.

@@ -10,6 +10,7 @@
 #include "ensembles/io/output_lock.hpp"
 #include "ensembles/program/commands.hpp"
 #include "core/version.hpp"
+#include "integrability/verdict.hpp"
 
 namespace qmaps {
 
