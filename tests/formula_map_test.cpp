@@ -138,7 +138,9 @@ TEST(FormulaMap, SurisAsFormulasIsTheBuiltInMapByteForByteOnEveryPath) {
       };
       Ensemble reference = start(*built_in);
       built_in->advance(reference, plan, Execution{Isa::scalar, 1, 1});
-      if (k.bound < 100) EXPECT_GT(reference.escaped(), 100u) << "the escapes are exercised";
+      if (k.bound < 100) {
+        EXPECT_GT(reference.escaped(), 100u) << "the escapes are exercised";
+      }
       std::vector<Isa> paths = {Isa::scalar};
       paths.insert(paths.end(), isas.begin(), isas.end());
       for (Isa isa : paths)
@@ -198,7 +200,7 @@ TEST(FormulaMap, SurisWrittenNaturallyOrAsEquationsAgreesWithTheBuiltInMap) {
       for (std::size_t k = 0; k < 4; ++k) b.state[k][i] = a.state[k][i];
     std::vector<std::vector<double>> initial;
     for (std::size_t i = 0; i < points.size(); ++i) initial.push_back(built_in->invariants(a, i));
-    for (const auto [steps, bound] : {std::pair{100LL, other_roundings}, {10000LL, phase_drift}}) {
+    for (const auto& [steps, bound] : {std::pair{100LL, other_roundings}, {10000LL, phase_drift}}) {
       RunPlan plan;
       plan.total = 10000;
       plan.first = a.step;
