@@ -35,7 +35,7 @@ const bool registered = [] {
     for (long threads : {1, 2}) sweep->Args({1L << log2, threads, Execution{}.chains});
   auto* chains = benchmark::RegisterBenchmark("runner/chains", run, size.steps)
                      ->ArgNames({"orbits", "threads", "chains"});
-  for (long k : {1, 2, 4, 8})
+  for (long k : {ChainRange<kernels::Suris>::least, ChainRange<kernels::Suris>::most})
     for (long threads : {1, 2}) chains->Args({size.simd_orbits, threads, k});
   for (auto* b : {sweep, chains}) b->Unit(benchmark::kMillisecond)->UseRealTime();
   return true;

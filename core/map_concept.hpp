@@ -31,6 +31,7 @@
 //                                 carried by that flow until q_k has moved by ds (Hénon's
 //                                 method), what a section of mode `exact` records
 //   facts                         MapFacts: its example parameters, tolerances and preset
+//   min_chains, max_chains        optional: the chains per block it runs in (ChainRange)
 // A map defined at run time (a formula map: DefinedAtRunTime) also has a Definition, which its
 // coefficients take after the values, and says by identity(definition) what the others say by
 // name, params and state_names; formulas(c) gives the text that defines it.
@@ -139,6 +140,26 @@ MapIdentity identity_of(const Extra&... extra) {
 template <class M>
 concept FlowsToPlane = requires(const typename M::Coeffs& c, std::array<double, 4> x) {
   { M::to_plane(c, x, std::size_t{0}, 0.0) } -> std::same_as<std::array<double, 4>>;
+};
+
+// The chains per SIMD block a map runs in, the only counts compiled for it: 4 and 8 by default
+// (fewer only slow a block: Suris, AVX-512, 1 thread, 5.7e8 particle-steps/s in blocks of 1
+// chain, 9.5e8 of 2, 1.4e9 of 4 and of 8), or its own Map::min_chains .. Map::max_chains (a
+// record that fills the registers takes fewer, a formula map's interpreter more). A run's
+// `[run] chains` is clamped into them: the bytes are the same for every count.
+template <class M>
+struct ChainRange {
+  static constexpr int most = [] {
+    if constexpr (requires { M::max_chains; }) return M::max_chains;
+    return 8;
+  }();
+  static constexpr int least = [] {
+    if constexpr (requires { M::min_chains; }) return M::min_chains;
+    return most < 4 ? most : 4;
+  }();
+  static constexpr int clamp(int chains) {
+    return chains < least ? least : chains > most ? most : chains;
+  }
 };
 
 }  // namespace qmaps

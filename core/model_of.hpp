@@ -180,11 +180,9 @@ class ModelOf final : public Model {
     }
   }
 
-  // x as this map runs it: a map whose record fills the registers takes fewer chains, one that
-  // decodes its step once per block (a formula map) more.
+  // x as this map runs it: its chains within those compiled for it (ChainRange).
   static Execution within(Execution x) {
-    if constexpr (requires { Map::min_chains; }) x.chains = std::max(x.chains, Map::min_chains);
-    if constexpr (requires { Map::max_chains; }) x.chains = std::min(x.chains, Map::max_chains);
+    x.chains = ChainRange<Map>::clamp(x.chains);
     return x;
   }
 

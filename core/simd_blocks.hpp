@@ -5,6 +5,8 @@
 // (core/simd_unit.cpp.in).
 #include <cstddef>
 #include <span>
+#include <stdexcept>
+#include <string>
 
 #include "core/block.hpp"
 #include "core/dispatch.hpp"
@@ -16,26 +18,21 @@ void advance_blocks(const typename Map::Coeffs& c, Ensemble& e, std::size_t firs
                     std::size_t count, int chains, const RunPlan& plan, Observers* observers) {
   using V = xsimd::batch<double, Arch>;
   const std::size_t block = V::size * static_cast<std::size_t>(chains);
-  // A map may allow fewer chains (Map::min_chains, Map::max_chains, applied by ModelOf::within):
-  // the others are not compiled for it.
-  constexpr int least = [] {
-    if constexpr (requires { Map::min_chains; }) return Map::min_chains;
-    return 1;
-  }();
-  constexpr int most = [] {
-    if constexpr (requires { Map::max_chains; }) return Map::max_chains;
-    return 8;
-  }();
+  // Only the counts of ChainRange<Map> are compiled (ModelOf::within clamps a run's into them).
+  using Chains = ChainRange<Map>;
   const auto blocks = [&]<int K>() {
-    if constexpr (K >= least && K <= most)
+    if constexpr (K >= Chains::least && K <= Chains::most)
       for (std::size_t o = first; o < first + count; o += block)
         advance_block<Map, V, K, Stepping::chunks>(c, e, o, plan, observers);
+    else
+      throw std::logic_error("advance_blocks: " + std::to_string(K) + " chains are not compiled");
   };
   switch (chains) {
     case 1: blocks.template operator()<1>(); break;
     case 2: blocks.template operator()<2>(); break;
     case 4: blocks.template operator()<4>(); break;
     case 8: blocks.template operator()<8>(); break;
+    default: throw std::logic_error("advance_blocks: chains must be 1, 2, 4 or 8");
   }
 }
 

@@ -206,7 +206,7 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
   ASSERT_FALSE(isas.empty());
   for (Isa isa : isas) {
     for (int threads : {1, 2})
-      for (int chains : {1, 2, 4, 8}) {
+      for (int chains : {1, 4, 8}) {  // 1: clamped into the counts compiled (ChainRange)
         Ensemble e = fresh();
         model->advance(e, plan, Execution{isa, threads, chains});
         EXPECT_EQ(first_difference(ref, e, isa_lanes(isa)), "")

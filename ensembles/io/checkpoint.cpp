@@ -29,9 +29,6 @@ template <class T>
 void read_column(const h5::Group& g, const std::string& name, std::span<T> out, Rows rows) {
   read_column(g, name, out, rows.first, rows.total);
 }
-Error bad(const h5::Group& g, const std::string& what) {
-  return Error(ExitCode::io, "HDF5: " + g.path() + ": " + what);
-}
 
 }  // namespace
 
@@ -93,33 +90,33 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
   }
   // What a run leaves: escapes at steps 0 … step (or −1) with a known reason, and for the orbits
   // that have not escaped, finite states and measured columns, none below its least value.
-  if (e.step < 0) throw bad(state, "step " + std::to_string(e.step));
+  if (e.step < 0) throw state.error("step " + std::to_string(e.step));
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t i = first + j;
     const std::int64_t at = e.escape_step[i];
     if (at < -1 || at > e.step)
-      throw bad(escape, "orbit " + std::to_string(j) + " escaped at step " + std::to_string(at));
+      throw escape.error("orbit " + std::to_string(j) + " escaped at step " + std::to_string(at));
     if (at < 0 && e.escape_reason[i] != 0)
-      throw bad(escape, "orbit " + std::to_string(j) + " has not escaped but has escape reason " +
+      throw escape.error("orbit " + std::to_string(j) + " has not escaped but has escape reason " +
                             std::to_string(e.escape_reason[i]));
     if (at >= 0 && (e.escape_reason[i] == 0 || e.escape_reason[i] > last_escape_reason))
-      throw bad(escape, "orbit " + std::to_string(j) + " has escape reason " +
+      throw escape.error("orbit " + std::to_string(j) + " has escape reason " +
                             std::to_string(e.escape_reason[i]));
     if (at >= 0) continue;
     for (std::size_t k = 0; k < names.size(); ++k)
       if (!std::isfinite(e.state[k][i]))
-        throw bad(state, "orbit " + std::to_string(j) + " has not escaped but its " +
+        throw state.error("orbit " + std::to_string(j) + " has not escaped but its " +
                              std::string(names[k]) + " is not finite");
     for (std::size_t c = 0; c < e.columns.size(); ++c)
       if (!(std::isnan(e.columns[c][i]) && e.column_specs[c].may_be_nan) &&
           (!(e.columns[c][i] >= e.column_specs[c].least) || !std::isfinite(e.columns[c][i])))
-        throw bad(root, "orbit " + std::to_string(j) + " has not escaped but its " +
+        throw root.error("orbit " + std::to_string(j) + " has not escaped but its " +
                             e.column_specs[c].path + " is " + number_text(e.columns[c][i]) +
                             (std::isfinite(e.columns[c][i])
                                  ? ", below its least value " + number_text(e.column_specs[c].least)
                                  : std::string()));
     if (const auto why = model.invalid_record(e, i); !why.empty())
-      throw bad(state, "orbit " + std::to_string(j) + ": " + why);
+      throw state.error("orbit " + std::to_string(j) + ": " + why);
   }
   e.fill_padding();
 }

@@ -11,6 +11,7 @@
 
 #include <hdf5.h>
 
+#include "core/error.hpp"
 #include "ensembles/io/ranks.hpp"
 
 namespace qmaps::h5 {
@@ -54,6 +55,8 @@ class Group {
   bool has_group(const std::string& name) const;  // a member that is a group (a hard link to one)
   std::vector<std::string> members() const;
   const std::string& path() const { return path_; }
+  // An io error about this group: "HDF5: <path>: <what>".
+  Error error(const std::string& what) const;
 
   void write(const std::string& name, std::span<const double> data) const;
   void write(const std::string& name, std::span<const std::int64_t> data) const;

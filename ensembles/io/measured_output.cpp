@@ -16,10 +16,6 @@ namespace {
 
 constexpr std::int64_t most_count = std::int64_t{1} << 53;  // no sum of counts can overflow
 
-Error bad(const h5::Group& g, const std::string& what) {
-  return Error(ExitCode::io, "HDF5: " + g.path() + ": " + what);
-}
-
 // counts (shape bins, or bins × bins), edges per axis, and the attributes of a histogram.
 void write_histogram(const h5::Group& g, const Histogram& h, const std::string& counts_name) {
   std::vector<hsize_t> dims;
@@ -41,9 +37,9 @@ void restore_histogram(const h5::Group& g, const std::string& counts, Histogram&
   const auto cells = g.read_int64(counts, h.counts().size());
   const std::int64_t under = g.attr_int64("underflow"), over = g.attr_int64("overflow");
   for (const std::int64_t c : cells)
-    if (c < 0 || c > most_count) throw bad(g, counts + " holds the count " + std::to_string(c));
+    if (c < 0 || c > most_count) throw g.error(counts + " holds the count " + std::to_string(c));
   if (under < 0 || under > most_count || over < 0 || over > most_count)
-    throw bad(g, "underflow or overflow out of range");
+    throw g.error("underflow or overflow out of range");
   h.restore(cells, under, over);
 }
 
@@ -118,7 +114,7 @@ void restore_events(const h5::Group& g, SectionPoints& kept, Rows orbits) {
   std::size_t points = 0;
   for (const std::int64_t k : counts) {
     if (k < 0 || k > kept.per_orbit())
-      throw bad(g, "an orbit keeps " + std::to_string(k) + " points, not 0 to " +
+      throw g.error("an orbit keeps " + std::to_string(k) + " points, not 0 to " +
                        std::to_string(kept.per_orbit()));
     points += static_cast<std::size_t>(k);
   }
@@ -138,20 +134,20 @@ void restore_events(const h5::Group& g, SectionPoints& kept, Rows orbits) {
     if (!ordered || orbit[i] < first ||
         static_cast<std::size_t>(orbit[i] - first) >= counts.size() || step[i] < 1 ||
         !std::isfinite(x[i]) || !std::isfinite(y[i]))
-      throw bad(g, "point " + std::to_string(before + i) + " is not one a run records");
+      throw g.error("point " + std::to_string(before + i) + " is not one a run records");
     kept.keep(static_cast<std::size_t>(orbit[i] - first), step[i], x[i], y[i]);
   }
   if (!std::ranges::equal(counts, kept.kept()))
-    throw bad(g, "its points are not spread over the orbits as kept says");
+    throw g.error("its points are not spread over the orbits as kept says");
 }
 
 // The rows of a checkpoint's series, at most those its orbits can give.
 void restore_series(const h5::Group& g, Trajectory& t, long long steps) {
   const auto shape = g.shape("orbit");
-  if (shape.size() != 1) throw bad(g, "orbit is not a column");
+  if (shape.size() != 1) throw g.error("orbit is not a column");
   const auto rows = static_cast<std::size_t>(shape[0]);
   if (static_cast<double>(rows) > t.rows(steps))
-    throw bad(g, "it holds " + std::to_string(rows) + " rows; its orbits and steps give at most " +
+    throw g.error("it holds " + std::to_string(rows) + " rows; its orbits and steps give at most " +
                      std::to_string(static_cast<long long>(t.rows(steps))));
   t.orbit = g.read_int64("orbit", rows);
   t.step = g.read_int64("step", rows);
@@ -250,11 +246,11 @@ void restore_kept(const h5::Group& root, MeasuredOutput& out, Rows rows) {
   for (auto& a : out.attributes) {
     if (!a.kept || !counts_here) continue;
     const auto g = root.open_group(a.group);
-    if (!g.has_attr(a.name)) throw bad(g, "it has no attribute " + a.name);
+    if (!g.has_attr(a.name)) throw g.error("it has no attribute " + a.name);
     *a.kept = g.attr_int64(a.name);
     const std::int64_t most = a.of ? a.of->samples() : most_count;
     if (*a.kept < 0 || *a.kept > most)
-      throw bad(g, a.name + " is " + std::to_string(*a.kept) + ", not 0 to " +
+      throw g.error(a.name + " is " + std::to_string(*a.kept) + ", not 0 to " +
                        (a.of ? std::to_string(most) + " (its histogram's samples)" : "2^53"));
   }
   for (auto& e : out.events)

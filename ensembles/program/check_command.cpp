@@ -10,14 +10,15 @@
 #include <cstdio>
 #include <ostream>
 
-#include "core/observers/invariants/invariant_columns.hpp"
 #include "core/error.hpp"
+#include "core/observers/invariants/invariant_columns.hpp"
 #include "ensembles/config/map_config.hpp"
-#include "ensembles/kinds/box.hpp"
-#include "kernels/catalogue.hpp"
-#include "ensembles/program/commands.hpp"
 #include "ensembles/io/statistics.hpp"
+#include "ensembles/kinds/box.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
+#include "ensembles/program/commands.hpp"
+#include "ensembles/program/significant.hpp"
+#include "kernels/catalogue.hpp"
 
 namespace qmaps {
 namespace {
@@ -44,12 +45,6 @@ const MapEntry& entry_of(const std::string& name) {
     if (m.name == name) return m;
   make_model(name, {});  // throws the unknown-map error
   throw usage_error("unknown map '" + name + "'");
-}
-
-std::string g(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
 }
 
 }  // namespace
@@ -109,8 +104,8 @@ int check_command(const CheckOptions& o, std::ostream& out) {
                          invariant_drift(e, k).span().first(e.orbits), alive);
     char line[160];
     std::snprintf(line, sizeof line, "  %-9s %10s %10s %10s %10s\n", names[k].c_str(),
-                  g(s.quantile(0.5)).c_str(), g(s.quantile(0.9)).c_str(),
-                  g(s.quantile(0.99)).c_str(), g(s.quantile(1)).c_str());
+                  significant(s.quantile(0.5)).c_str(), significant(s.quantile(0.9)).c_str(),
+                  significant(s.quantile(0.99)).c_str(), significant(s.quantile(1)).c_str());
     out << line;
   }
 
@@ -129,7 +124,8 @@ int check_command(const CheckOptions& o, std::ostream& out) {
     ++compared;
   }
   out << "reversibility: " << o.steps << " steps forward, reversed, " << o.steps
-      << " back: max |(q, p) - (q0, p0)| = " << g(worst) << " over " << compared << " orbits\n";
+      << " back: max |(q, p) - (q0, p0)| = " << significant(worst) << " over " << compared
+      << " orbits\n";
   return 0;
 }
 

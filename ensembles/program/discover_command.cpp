@@ -17,8 +17,9 @@
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
 #include "ensembles/kinds/initial_conditions.hpp"
-#include "ensembles/program/interrupt.hpp"
 #include "ensembles/program/commands.hpp"
+#include "ensembles/program/interrupt.hpp"
+#include "ensembles/program/significant.hpp"
 #include "kernels/catalogue.hpp"
 
 namespace qmaps {
@@ -61,12 +62,6 @@ Ensemble first_orbits(const Model& model, const InitialConditions& ic, std::size
   return e;
 }
 
-std::string g(double x, int digits = 3) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.*g", digits, x);
-  return text;
-}
-
 // Orbits that all start on one level set J = c of an invariant J of the map (a shell of one
 // energy, for the flow's H) stay on it, and every polynomial (J − c)·g then vanishes on the data:
 // each would read as an invariant, as many as there are g. Refused, naming J, where J's values
@@ -91,11 +86,11 @@ void refuse_one_level_set(const Model& model, const Ensemble& e, double level) {
     if (!(low[k] <= high[k]) || !(high[k] - low[k] <= level * scale)) continue;
     throw usage_error(
         "the " + std::to_string(orbits) + " orbits lie on one level set of the map's invariant " +
-        names[k] + " (" + names[k] + " = " + g(low[k], 6) + " on every orbit, to " +
-        g(scale > 0 ? (high[k] - low[k]) / scale : 0.0) + " relative): every polynomial (" +
-        names[k] + " - " + g(low[k], 6) + ") g vanishes on the data and would read as an " +
-        "invariant; give orbits spread over " + names[k] + "'s values (a box, or shells of " +
-        "several energies)");
+        names[k] + " (" + names[k] + " = " + significant(low[k], 6) + " on every orbit, to " +
+        significant(scale > 0 ? (high[k] - low[k]) / scale : 0.0) +
+        " relative): every polynomial (" + names[k] + " - " + significant(low[k], 6) +
+        ") g vanishes on the data and would read as an " + "invariant; give orbits spread over " +
+        names[k] + "'s values (a box, or shells of " + "several energies)");
   }
 }
 
@@ -112,8 +107,8 @@ void print_report(const Discovery& d, const DifferenceRows& rows,
   out << "rows:       " << d.rows << " steps, " << n << " monomials of degree 1 to " << o.degree
       << '\n';
   const std::size_t shown = std::min(n, std::max<std::size_t>(8, d.dimension + 2));
-  out << "singular values sigma_i / sigma_1 (sigma_1 = " << g(d.largest) << "), the smallest "
-      << shown << ":\n";
+  out << "singular values sigma_i / sigma_1 (sigma_1 = " << significant(d.largest)
+      << "), the smallest " << shown << ":\n";
   for (std::size_t i = n - shown; i < n; ++i) {
     char line[80];
     std::snprintf(line, sizeof line, "  sigma_%-5zu %.3e%s\n", i + 1, d.relative[i],
@@ -122,21 +117,21 @@ void print_report(const Discovery& d, const DifferenceRows& rows,
   }
   out << "null space: dimension " << d.dimension;
   if (o.threshold > 0)
-    out << " (sigma_i / sigma_1 <= " << g(o.threshold) << ")";
+    out << " (sigma_i / sigma_1 <= " << significant(o.threshold) << ")";
   else
-    out << " (at the largest gap below " << g(DiscoveryOptions{}.ceiling)
-        << " sigma_1, if it is at least " << g(DiscoveryOptions{}.minimum_gap) << ")";
+    out << " (at the largest gap below " << significant(DiscoveryOptions{}.ceiling)
+        << " sigma_1, if it is at least " << significant(DiscoveryOptions{}.minimum_gap) << ")";
   if (d.gap > 0)
     out << ", gap sigma_" << n - d.dimension << " / sigma_" << n - d.dimension + 1 << " = "
-        << g(d.gap);
+        << significant(d.gap);
   out << '\n';
   if (d.largest_gap_at > 0 && d.largest_gap_at != n - d.dimension)
-    out << "largest gap: sigma_" << d.largest_gap_at << " / sigma_" << d.largest_gap_at + 1
-        << " = " << g(d.largest_gap) << " (a null space of dimension " << n - d.largest_gap_at
+    out << "largest gap: sigma_" << d.largest_gap_at << " / sigma_" << d.largest_gap_at + 1 << " = "
+        << significant(d.largest_gap) << " (a null space of dimension " << n - d.largest_gap_at
         << " there)\n";
   if (d.invariants.empty()) return;
   out << "invariants: the reduced basis, largest coefficient 1, coefficients below "
-      << g(drop_of(d, o)) << " left out:\n";
+      << significant(drop_of(d, o)) << " left out:\n";
   for (std::size_t k = 0; k < d.invariants.size(); ++k)
     out << "invariant " << k + 1 << ": "
         << rows.monomials().polynomial(d.invariants[k], names, drop_of(d, o)) << '\n';
@@ -150,7 +145,8 @@ void print_csv(const Discovery& d, const DifferenceRows& rows,
     const auto& c = d.invariants[k];
     for (std::size_t j = 0; j < c.size(); ++j) {
       if (!(std::fabs(c[j]) >= drop_of(d, o)) || c[j] == 0) continue;  // max |c| = 1
-      out << k + 1 << ',' << rows.monomials().text(j, names) << ',' << g(c[j], 17) << '\n';
+      out << k + 1 << ',' << rows.monomials().text(j, names) << ',' << significant(c[j], 17)
+          << '\n';
     }
   }
 }
@@ -175,17 +171,16 @@ int discover_command(const DiscoverOptions& o, std::ostream& out) {
   // The size of the problem, before anything is allocated.
   const double monomials = Monomials::count(names.size(), o.degree);
   if (!(monomials <= max_monomials))
-    throw usage_error("--degree " + std::to_string(o.degree) + ": " + g(monomials, 6) +
-                      " monomials of the " + std::to_string(names.size()) +
-                      " variables; at most " +
+    throw usage_error("--degree " + std::to_string(o.degree) + ": " + significant(monomials, 6) +
+                      " monomials of the " + std::to_string(names.size()) + " variables; at most " +
                       std::to_string(static_cast<long long>(max_monomials)) +
                       " (the SVD's time grows as their cube)");
   const double bytes = DifferenceRows::bytes(monomials);
   const MemoryLimit have = memory_limit();
   if (bytes > have.bytes)
-    throw usage_error("--degree " + std::to_string(o.degree) + ": " + g(monomials, 6) +
-                      " monomials need about " + g(bytes / (1 << 30)) + " GiB; " + have.what +
-                      " is " + g(have.bytes / (1 << 30)) + " GiB");
+    throw usage_error("--degree " + std::to_string(o.degree) + ": " + significant(monomials, 6) +
+                      " monomials need about " + significant(bytes / (1 << 30)) + " GiB; " +
+                      have.what + " is " + significant(have.bytes / (1 << 30)) + " GiB");
 
   const InitialConditions ic = InitialConditions::from_config(config, *model, stop_on_signal);
   Start rule = Start::taylor;
@@ -201,10 +196,10 @@ int discover_command(const DiscoverOptions& o, std::ostream& out) {
   const std::size_t orbits = std::min(static_cast<std::size_t>(o.orbits), ic.orbits());
   const double planned = static_cast<double>(orbits) * static_cast<double>(o.steps);
   if (planned < monomials)
-    throw usage_error("too few rows: " + std::to_string(orbits) + " orbits x " +
-                      std::to_string(o.steps) + " steps give " + g(planned, 6) + " rows for " +
-                      g(monomials, 6) + " monomials; give more --orbits or --steps (many more " +
-                      "rows than monomials)");
+    throw usage_error(
+        "too few rows: " + std::to_string(orbits) + " orbits x " + std::to_string(o.steps) +
+        " steps give " + significant(planned, 6) + " rows for " + significant(monomials, 6) +
+        " monomials; give more --orbits or --steps (many more " + "rows than monomials)");
 
   Ensemble e = first_orbits(*model, ic, orbits, rule, escape_bound);
   refuse_one_level_set(*model, e, o.threshold > 0 ? o.threshold : DiscoveryOptions{}.ceiling);

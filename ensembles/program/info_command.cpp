@@ -12,23 +12,18 @@
 
 #include "core/ensemble.hpp"
 #include "core/error.hpp"
-#include "ensembles/io/h5.hpp"
-#include "ensembles/program/commands.hpp"
-#include "ensembles/io/file_orbits.hpp"
-#include "ensembles/io/output.hpp"
-#include "ensembles/io/statistics.hpp"
 #include "ensembles/config/config.hpp"
 #include "ensembles/config/map_config.hpp"
+#include "ensembles/io/file_orbits.hpp"
+#include "ensembles/io/h5.hpp"
+#include "ensembles/io/output.hpp"
+#include "ensembles/io/statistics.hpp"
+#include "ensembles/program/commands.hpp"
 #include "ensembles/program/run_setup.hpp"
+#include "ensembles/program/significant.hpp"
 
 namespace qmaps {
 namespace {
-
-std::string g(double x) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", x);
-  return text;
-}
 
 // "128 x 128 bins over q1 x q2, 1000 samples (12 underflow, 3 overflow)"
 std::string histogram_text(const h5::Group& h, const std::string& counts) {
@@ -96,8 +91,8 @@ void describe_measured(const h5::Group& root, std::size_t orbits,
         if (alive[i] && !std::isnan(values[i])) kept.push_back(values[i]);  // NaN: no tune
       if (kept.empty()) continue;
       const auto q = quantiles(std::move(kept), {0, 0.5, 1});
-      out << "  " << path << ": least " << g(q[0]) << ", median " << g(q[1]) << ", largest "
-          << g(q[2]) << '\n';
+      out << "  " << path << ": least " << significant(q[0]) << ", median " << significant(q[1])
+          << ", largest " << significant(q[2]) << '\n';
     }
 }
 
@@ -106,8 +101,8 @@ void quartile_lines(const h5::Group& histograms, std::ostream& out) {
   for (const auto& name : histograms.members()) {
     const auto h = histograms.open_group(name);
     out << "  " << name << std::string(name.size() < 14 ? 14 - name.size() : 1, ' ') << "median "
-        << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1")) << " to "
-        << g(h.attr_double("q3")) << '\n';
+        << significant(h.attr_double("median")) << ", quartiles "
+        << significant(h.attr_double("q1")) << " to " << significant(h.attr_double("q3")) << '\n';
   }
 }
 
@@ -250,7 +245,7 @@ int describe(const std::string& path, std::ostream& out) {
     const auto initial = inv.read_doubles("initial", orbits),
                drift = inv.read_doubles("max_abs_drift", orbits);
     const DriftSummary s(initial, drift, alive);
-    out << "worst " << g(s.quantile(1)) << ", median " << g(s.quantile(0.5));
+    out << "worst " << significant(s.quantile(1)) << ", median " << significant(s.quantile(0.5));
     if (s.not_numbers())
       out << " (" << s.not_numbers() << " of " << s.orbits() << " orbits' " << name
           << " is not a number: no drift can be measured)";
@@ -284,9 +279,10 @@ int describe(const std::string& path, std::ostream& out) {
   if (root.has("chaos")) {
     const auto chaos = root.open_group("chaos");
     const auto regular = chaos.attr_int64("regular"), chaotic = chaos.attr_int64("chaotic");
-    out << "chaos:      " << chaotic << " chaotic, " << regular << " regular (MEGNO above / not above "
-        << number_text(chaos.attr_double("megno_threshold")) << "), " << chaos.attr_int64("escaped")
-        << " escaped; chaotic fraction " << g(chaos.attr_double("chaotic_fraction")) << '\n';
+    out << "chaos:      " << chaotic << " chaotic, " << regular
+        << " regular (MEGNO above / not above " << number_text(chaos.attr_double("megno_threshold"))
+        << "), " << chaos.attr_int64("escaped") << " escaped; chaotic fraction "
+        << significant(chaos.attr_double("chaotic_fraction")) << '\n';
     quartile_lines(chaos.open_group("histograms"), out);
   }
   if (root.has("tunes")) {
@@ -296,8 +292,9 @@ int describe(const std::string& path, std::ostream& out) {
         << tunes.attr_int64("regular") << " regular (diffusion above / not above "
         << number_text(tunes.attr_double("diffusion_threshold")) << "), "
         << tunes.attr_int64("escaped") << " escaped, " << tunes.attr_int64("no_tune")
-        << " without a tune, " << tunes.attr_int64("round_off") << " at round-off; chaotic fraction "
-        << g(tunes.attr_double("chaotic_fraction")) << '\n';
+        << " without a tune, " << tunes.attr_int64("round_off")
+        << " at round-off; chaotic fraction " << significant(tunes.attr_double("chaotic_fraction"))
+        << '\n';
     quartile_lines(tunes.open_group("histograms"), out);
     out << "  frequency map: " << histogram_text(tunes.open_group("frequency_map"), "counts") << '\n';
   }
@@ -312,8 +309,8 @@ int describe(const std::string& path, std::ostream& out) {
     const auto h = root.open_group(path);
     out << "  " << path << ": " << histogram_text(h, "counts");
     if (h.has_attr("median"))
-      out << "; median " << g(h.attr_double("median")) << ", quartiles " << g(h.attr_double("q1"))
-          << " to " << g(h.attr_double("q3"));
+      out << "; median " << significant(h.attr_double("median")) << ", quartiles "
+          << significant(h.attr_double("q1")) << " to " << significant(h.attr_double("q3"));
     out << '\n';
   }
   return 0;
