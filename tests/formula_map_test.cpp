@@ -143,12 +143,11 @@ TEST(FormulaMap, SurisAsFormulasIsTheBuiltInMapByteForByteOnEveryPath) {
       }
       std::vector<Isa> paths = {Isa::scalar};
       paths.insert(paths.end(), isas.begin(), isas.end());
-      for (Isa isa : paths)
-        for (int chains : {1, 8}) {
-          Ensemble e = start(*written);
-          written->advance(e, plan, Execution{isa, 2, chains});
-          EXPECT_EQ(first_difference(reference, e), "") << isa_name(isa) << ", " << chains << " chains";
-        }
+      for (Isa isa : paths) {  // 1 chain asked: blocks of 8 run (ChainRange), as for any count
+        Ensemble e = start(*written);
+        written->advance(e, plan, Execution{isa, 2, 1});
+        EXPECT_EQ(first_difference(reference, e), "") << isa_name(isa);
+      }
       // the phase points and invariants the file writes
       Ensemble e = start(*written);
       written->advance(e, plan, Execution{Isa::scalar, 1, 1});
