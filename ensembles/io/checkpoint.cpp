@@ -98,23 +98,23 @@ void read_ensemble(const h5::Group& root, const Model& model, Ensemble& e, Rows 
       throw escape.error("orbit " + std::to_string(j) + " escaped at step " + std::to_string(at));
     if (at < 0 && e.escape_reason[i] != 0)
       throw escape.error("orbit " + std::to_string(j) + " has not escaped but has escape reason " +
-                            std::to_string(e.escape_reason[i]));
+                         std::to_string(e.escape_reason[i]));
     if (at >= 0 && (e.escape_reason[i] == 0 || e.escape_reason[i] > last_escape_reason))
       throw escape.error("orbit " + std::to_string(j) + " has escape reason " +
-                            std::to_string(e.escape_reason[i]));
+                         std::to_string(e.escape_reason[i]));
     if (at >= 0) continue;
     for (std::size_t k = 0; k < names.size(); ++k)
       if (!std::isfinite(e.state[k][i]))
         throw state.error("orbit " + std::to_string(j) + " has not escaped but its " +
-                             std::string(names[k]) + " is not finite");
+                          std::string(names[k]) + " is not finite");
     for (std::size_t c = 0; c < e.columns.size(); ++c)
       if (!(std::isnan(e.columns[c][i]) && e.column_specs[c].may_be_nan) &&
           (!(e.columns[c][i] >= e.column_specs[c].least) || !std::isfinite(e.columns[c][i])))
         throw root.error("orbit " + std::to_string(j) + " has not escaped but its " +
-                            e.column_specs[c].path + " is " + number_text(e.columns[c][i]) +
-                            (std::isfinite(e.columns[c][i])
-                                 ? ", below its least value " + number_text(e.column_specs[c].least)
-                                 : std::string()));
+                         e.column_specs[c].path + " is " + number_text(e.columns[c][i]) +
+                         (std::isfinite(e.columns[c][i])
+                              ? ", below its least value " + number_text(e.column_specs[c].least)
+                              : std::string()));
     if (const auto why = model.invalid_record(e, i); !why.empty())
       throw state.error("orbit " + std::to_string(j) + ": " + why);
   }

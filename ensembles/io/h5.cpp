@@ -270,9 +270,7 @@ bool Group::has_group(const std::string& name) const {
          object.type == H5O_TYPE_GROUP;
 }
 
-Error Group::error(const std::string& what) const {
-  return Error(ExitCode::io, "HDF5: " + path_ + ": " + what);
-}
+Error Group::error(const std::string& what) const { return failure(path_ + ": " + what); }
 
 std::vector<std::string> Group::members() const {
   std::vector<std::string> out;

@@ -115,7 +115,7 @@ void restore_events(const h5::Group& g, SectionPoints& kept, Rows orbits) {
   for (const std::int64_t k : counts) {
     if (k < 0 || k > kept.per_orbit())
       throw g.error("an orbit keeps " + std::to_string(k) + " points, not 0 to " +
-                       std::to_string(kept.per_orbit()));
+                    std::to_string(kept.per_orbit()));
     points += static_cast<std::size_t>(k);
   }
   // This process's points follow those of the orbits before its rows.
@@ -148,7 +148,7 @@ void restore_series(const h5::Group& g, Trajectory& t, long long steps) {
   const auto rows = static_cast<std::size_t>(shape[0]);
   if (static_cast<double>(rows) > t.rows(steps))
     throw g.error("it holds " + std::to_string(rows) + " rows; its orbits and steps give at most " +
-                     std::to_string(static_cast<long long>(t.rows(steps))));
+                  std::to_string(static_cast<long long>(t.rows(steps))));
   t.orbit = g.read_int64("orbit", rows);
   t.step = g.read_int64("step", rows);
   t.values.clear();
@@ -251,7 +251,7 @@ void restore_kept(const h5::Group& root, MeasuredOutput& out, Rows rows) {
     const std::int64_t most = a.of ? a.of->samples() : most_count;
     if (*a.kept < 0 || *a.kept > most)
       throw g.error(a.name + " is " + std::to_string(*a.kept) + ", not 0 to " +
-                       (a.of ? std::to_string(most) + " (its histogram's samples)" : "2^53"));
+                    (a.of ? std::to_string(most) + " (its histogram's samples)" : "2^53"));
   }
   for (auto& e : out.events)
     restore_events(root.open_group(e.group), *e.points, rows.or_all(e.points->kept().size()));
