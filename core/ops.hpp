@@ -133,9 +133,10 @@ QMAPS_FOR_EACH_ISA(QMAPS_OPS_FORM_OF)
 #undef QMAPS_OPS_FORM_OF
 
 // Applies std::fma to each lane, with c negated when `subtract`: the exactly rounded fallback
-// for an ISA without an FMA unit.
+// for an ISA without an FMA unit. Not inlined (nor per_lane): each call site is then one call,
+// which halves the size of an SSE2 unit, and the library's fma it wraps costs more than the call.
 template <class A>
-inline batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) {
+[[gnu::noinline]] batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) {
   alignas(64) std::array<double, batch<A>::size> x, y, z;
   a.store_aligned(x.data());
   b.store_aligned(y.data());
@@ -145,7 +146,7 @@ inline batch<A> fma_per_lane(batch<A> a, batch<A> b, batch<A> c, bool subtract) 
 }
 // Applies the scalar op f to each lane: the fallback's sqrt and floor.
 template <class A, class F>
-inline batch<A> per_lane(batch<A> a, F f) {
+[[gnu::noinline]] batch<A> per_lane(batch<A> a, F f) {
   alignas(64) std::array<double, batch<A>::size> x;
   a.store_aligned(x.data());
   for (double& v : x) v = f(v);

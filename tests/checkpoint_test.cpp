@@ -32,13 +32,13 @@ namespace {
 
 constexpr int kInterrupted = static_cast<int>(ExitCode::interrupted);
 
-// The Suris preset with its observers, chaos indicators and a trajectory, 5000 orbits × 3000
+// The Suris preset with its observers, chaos indicators and a trajectory, 1500 orbits × 1500
 // steps, a fifth of them escaping (beyond |q| = 0.6).
 std::string config_text(const std::string& output) {
   std::string text = read_text(QMAPS_SOURCE_DIR "/ensembles/presets/suris.toml");
-  text = with_line(text, "orbits = ", "orbits = 5000");
-  text = with_line(text, "steps = ", "steps = 3000\nescape_bound = 0.6");
-  text += "\n[chaos]\n\n[[trajectory]]\nname = \"some\"\norbits = [3, 1, 4159]\nevery = 100\n";
+  text = with_line(text, "orbits = ", "orbits = 1500");
+  text = with_line(text, "steps = ", "steps = 1500\nescape_bound = 0.6");
+  text += "\n[chaos]\n\n[[trajectory]]\nname = \"some\"\norbits = [3, 1, 1415]\nevery = 100\n";
   return with_line(text, "file = ", "file = \"" + output + "\"");
 }
 
@@ -121,7 +121,7 @@ TEST_F(Checkpoint, InterruptedBySigtermTwiceAndResumedEqualsUninterruptedRun) {
   const std::string sessions = h5::File::open_read(output).root().attr_string("sessions");
   EXPECT_EQ(std::count(sessions.begin(), sessions.end(), '\n'), 3) << sessions;
   EXPECT_TRUE(Contains(sessions, "steps 0-"));
-  EXPECT_TRUE(Contains(sessions, "-3000, "));
+  EXPECT_TRUE(Contains(sessions, "-1500, "));
   EXPECT_TRUE(Contains(sessions, "run --resume " + checkpoint + "\n"));
 }
 

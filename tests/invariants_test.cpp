@@ -32,7 +32,7 @@ struct Conservation {
 // Every map of kernels/maps.hpp at its example, with its stated tolerance (the flows' H and
 // second integral are conserved to their order, not exactly: their bound says how far), and the
 // suris regime its example does not reach.
-std::vector<Conservation> maps() {
+std::vector<Conservation> conservations() {
   std::vector<Conservation> out;
   for (const MapEntry& m : catalogue()) {
     const std::string id = testing::test_id(m.name);
@@ -110,7 +110,7 @@ TEST_P(Invariants, OrbitRangesOnEveryPathEqualTheReferenceByteForByte) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Maps, Invariants, ::testing::ValuesIn(maps()),
+INSTANTIATE_TEST_SUITE_P(Maps, Invariants, ::testing::ValuesIn(conservations()),
                          [](const auto& info) { return std::string(info.param.name); });
 
 TEST(Invariants, SurisSumOfI1AndI2EqualsTwoHSquaredTimesHWithinTolerance) {

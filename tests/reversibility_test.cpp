@@ -23,7 +23,7 @@ struct Reversal {
 };
 
 // Every map of kernels/maps.hpp at its example, with its stated tolerance.
-std::vector<Reversal> maps() {
+std::vector<Reversal> reversals() {
   std::vector<Reversal> out;
   for (const MapEntry& m : catalogue()) {
     const std::string id = testing::test_id(m.name);
@@ -58,7 +58,7 @@ TEST_P(Reversibility, ForwardThenBackwardReturnsToStartWithinTolerance) {
   EXPECT_LT(worst, r.tolerance);
 }
 
-INSTANTIATE_TEST_SUITE_P(Maps, Reversibility, ::testing::ValuesIn(maps()),
+INSTANTIATE_TEST_SUITE_P(Maps, Reversibility, ::testing::ValuesIn(reversals()),
                          [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
