@@ -4,14 +4,13 @@ divides, with every kind of observer, trajectories across ranks and escaping orb
 single process's run, dataset for dataset and byte for byte, and records its ranks, threads and
 hosts; so does a gzip-compressed run and one without per-orbit datasets; a run interrupted under
 2 ranks resumes under 3, and one interrupted under 3 resumes without mpirun, into the same file,
-as does one stopped by SIGTERM or SIGINT sent to mpirun (8 times on a loaded machine, each stop
+as does one stopped by SIGTERM or SIGINT sent to mpirun (4 times on a loaded machine, each stop
 resumed by the next), which rank 0 names as mpirun's SIGTERM;
 a bad configuration or an unwritable output given to the last rank alone, or ranks given
 different configurations, end every rank with the message and nothing written; --shard is refused
 over several ranks. Skipped where qmaps-mpi (beside the qmaps binary) or mpirun is missing."""
 import os
 import pathlib
-import random
 import shutil
 import signal
 import subprocess
@@ -34,7 +33,9 @@ MPI_ENV = {"OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
            "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
 TIMEOUT = 300  # seconds, per process
 INTERRUPT = {"QMAPS_SIGNAL_AT_STEP": "60:INT"}
-SIGNALS = 8  # SIGTERMs and SIGINTs to mpirun, each to a run resumed from the last checkpoint
+# The delays after start-up of the SIGTERMs and SIGINTs sent in turn to mpirun, each to a run
+# resumed from the last checkpoint: each signal early and late.
+DELAYS = (0.2, 1.7, 0.7, 2.2)
 TRAJECTORIES = small_run.fixture("trajectory-across.toml")
 
 
@@ -178,9 +179,9 @@ class Mpi(unittest.TestCase):
     def test_a_signal_to_mpirun_checkpoints_every_rank(self):
         """SIGTERM sent to mpirun itself, as a batch system ends a job, or SIGINT (Ctrl-C): mpirun
         sends the ranks SIGTERM for either 1 s later and SIGKILLs them 1 s after that, and rank 0
-        names the SIGTERM as mpirun's, not the signal mpirun had. Sent SIGNALS times, alternately,
-        at random times, to a run on a machine loaded by a busy process per core, each time
-        resuming the previous checkpoint: every time, the ranks stop within their grace and write
+        names the SIGTERM as mpirun's, not the signal mpirun had. Sent once per DELAYS,
+        alternately, to a run on a machine loaded by a busy process per core, each time resuming
+        the previous checkpoint: every time, the ranks stop within their grace and write
         one checkpoint further on. mpirun's own status is then OpenMPI's (not 0; the ranks exit
         with 5). The last checkpoint equals the one the run never stopped writes at the same
         step."""
@@ -189,12 +190,11 @@ class Mpi(unittest.TestCase):
         run = [BINARY, "run", "p.toml", "--set", "ensemble.orbits=2000", "--set",
                "run.steps=100000000", "--quiet"]
         resume = [BINARY, "run", "--resume", "out.h5.ckpt", "--quiet"]
-        delays = random.Random(36).choices([0.2, 0.7, 1.2, 1.7, 2.2], k=SIGNALS)
         busy = [subprocess.Popen([sys.executable, "-c", "while True: pass"])
                 for _ in range(os.cpu_count() or 1)]
         step = 0
         try:
-            for trial, delay in enumerate(delays):
+            for trial, delay in enumerate(DELAYS):
                 command = [MPIRUN, "--oversubscribe", "-np", "2",
                            *(resume if trial else [*run, "--out", "out.h5"]), "--threads", "1"]
                 with subprocess.Popen(list(map(str, command)), cwd=d, text=True,
