@@ -207,10 +207,14 @@ TEST_P(Agreement, EveryIsaThreadCountAndBlockSizeIsBitIdenticalToScalarReference
   const auto isas = testing::isas_to_run();
   ASSERT_FALSE(isas.empty());
   for (Isa isa : isas) {
-    // Each block size on one thread (1: clamped into the counts compiled, ChainRange), and the
-    // orbits split between two threads in blocks of either size.
+    // Each block size on one thread, and the orbits split between two threads in blocks of either
+    // size. A map runs only the chains compiled for it (ChainRange: 4 and 8, 1 with deviations, 8
+    // for formulas), so the pairs that come to the same block are run once.
+    std::set<std::pair<int, std::size_t>> ran;
     for (const auto& [threads, chains] :
          std::array<std::pair<int, int>, 5>{{{1, 1}, {1, 4}, {1, 8}, {2, 4}, {2, 8}}}) {
+      if (!ran.emplace(threads, model->block_orbits(Execution{isa, threads, chains})).second)
+        continue;
       Ensemble e = fresh();
       model->advance(e, plan, Execution{isa, threads, chains});
       EXPECT_EQ(first_difference(ref, e, isa_lanes(isa)), "")

@@ -192,7 +192,7 @@ def test_the_gil_is_released_while_stepping(configs):
     worker.start()
     running.set()
     began = time.perf_counter()
-    run = qmaps.run(configs["suris"], ensemble={"orbits": 20000}, run={"steps": 2000}, threads=1)
+    run = qmaps.run(configs["suris"], ensemble={"orbits": 5000}, run={"steps": 2000}, threads=1)
     took = time.perf_counter() - began
     seen = count[0]
     running.clear()
@@ -226,11 +226,11 @@ def test_progress_bar_and_a_failing_callback(configs, tmp_path, capfd):
 INTERRUPTED = """
 import os, signal, sys, threading, qmaps
 config, folder, how = sys.argv[1], sys.argv[2], sys.argv[3]
-if how == "signal":  # Ctrl-C from outside, while it steps (the run lasts far longer than 5 s;
-    # under load, importing and drawing 200000 orbits have taken more than 1 s)
+if how == "signal":  # Ctrl-C from outside, while it steps (the run lasts far longer than 5 s:
+    # about 150 s; under load, importing and drawing the orbits have taken more than 1 s)
     threading.Timer(5.0, lambda: os.kill(os.getpid(), signal.SIGINT)).start()
 try:
-    qmaps.run(config, ensemble={"orbits": 200000}, run={"steps": 100000}, threads=1,
+    qmaps.run(config, ensemble={"orbits": 20000}, run={"steps": 100000}, threads=1,
               tmpdir=folder)
     print("finished")
 except KeyboardInterrupt as e:
