@@ -519,6 +519,7 @@ void AtomicFile::commit() {
     failure = {static_cast<int>(ExitCode::io), "cannot rename '" + temporary_ + "' to '" + path_ +
                                                    "': " + std::strerror(errno)};
   if (shared_) failure = ranks::first_failure(failure);
+  if (failure.code != 0 && shared_) throw ranks::FailedOnEveryRank(ExitCode::io, failure.message);
   if (failure.code != 0) throw Error(ExitCode::io, failure.message);
   committed_ = true;
 }

@@ -18,6 +18,7 @@ void from_root(std::span<std::byte>) {}
 std::vector<double> gathered(std::span<const double> values) { return {values.begin(), values.end()}; }
 std::vector<std::string> gathered(const std::string& value) { return {value}; }
 Failure first_failure(const Failure& mine) { return mine; }
+void barrier() {}
 void abort(int code) { std::_Exit(code); }
 
 }  // namespace qmaps::ranks

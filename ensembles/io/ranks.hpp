@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "core/error.hpp"
+
 namespace qmaps::ranks {
 
 int rank();
@@ -39,6 +41,15 @@ struct Failure {
   std::string message;
 };
 Failure first_failure(const Failure& mine);
+// The error every rank raises alike after first_failure: each rank ends with it, and none before
+// the root has reported it (barrier), so that mpirun, which ends the job as the first rank exits,
+// never cuts the report short.
+class FailedOnEveryRank : public Error {
+ public:
+  using Error::Error;
+};
+// Returns once every rank has called it.
+void barrier();
 
 // Ends every rank now with `code`, for a failure inside a collective step (where the other ranks
 // cannot be told); alone, exits.

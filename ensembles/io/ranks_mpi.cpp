@@ -126,6 +126,8 @@ Failure first_failure(const Failure& mine) {
   return first;
 }
 
+void barrier() { MPI_Barrier(MPI_COMM_WORLD); }
+
 void abort(int code) {
   MPI_Abort(MPI_COMM_WORLD, code);
   std::_Exit(code);

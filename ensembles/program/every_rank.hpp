@@ -21,7 +21,8 @@ void on_every_rank(Step step) {
     mine = {static_cast<int>(ExitCode::failure), e.what()};
   }
   const ranks::Failure first = ranks::first_failure(mine);
-  if (first.code != 0) throw Error(static_cast<ExitCode>(first.code), first.message);
+  if (first.code != 0)
+    throw ranks::FailedOnEveryRank(static_cast<ExitCode>(first.code), first.message);
 }
 
 }  // namespace qmaps

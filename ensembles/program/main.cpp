@@ -246,7 +246,8 @@ int main(int argc, char** argv) {
     std::raise(e.signal());
     return 128 + e.signal();
   } catch (const qmaps::Error& e) {
-    errors << "qmaps: error: " << e.what() << '\n';
+    errors << "qmaps: error: " + std::string(e.what()) + '\n' << std::flush;  // one write
+    if (dynamic_cast<const qmaps::ranks::FailedOnEveryRank*>(&e)) qmaps::ranks::barrier();
     if (e.code() == qmaps::ExitCode::io) {
       // A shared file (MPI-IO) whose close failed (a full disk) stays open inside HDF5, whose
       // exit handler would then fail on it (ensembles/io/h5_writing_driver.hpp spares the files of
